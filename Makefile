@@ -1,0 +1,121 @@
+# Makefile - builds libjetmesh (static + shared), the jetmesh CLI, tests, demo, bench and fuzzers.
+#
+#   make            library, CLI               make check   every test (installs deps)
+#   make demo       convert the jet sample     make bench   benchmark suite -> BENCHMARKS.md
+#   make fuzz       run the fuzzers            make install PREFIX=/usr/local
+
+CC      ?= cc
+CXX     ?= c++
+OPT     ?= -O2 -g
+CSTD     = -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE
+WARN     = -Wall -Wextra
+CFLAGS  ?=
+CXXFLAGS ?=
+SAN     ?=
+BUILD   ?= build
+PREFIX  ?= /usr/local
+DESTDIR ?=
+
+ALL_CFLAGS   = $(CSTD) $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CFLAGS)
+ALL_CXXFLAGS = -std=c++17 $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP \
+               -I/usr/include/nlohmann -I/usr/include/stb $(CXXFLAGS)
+FMT_LIBS     = -ltinygltf -ldraco -lz
+LIBS         = $(FMT_LIBS) -lstdc++ -lm -pthread
+
+LIB_SRC   := $(wildcard lib/*.c)
+FMT_CSRC  := $(wildcard formats/*.c)
+FMT_XSRC  := $(wildcard formats/*.cpp)
+CLI_SRC   := $(wildcard cli/*.c)
+TUTIL_SRC := $(wildcard tests/util/*.c)
+TEST_SRC  := $(wildcard tests/test_*.c)
+TOOL_SRC  := $(wildcard tests/tools/*.c)
+
+LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/%.o)
+FMT_OBJ   := $(FMT_CSRC:%.c=$(BUILD)/%.o) $(FMT_XSRC:%.cpp=$(BUILD)/%.o)
+CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/%.o)
+TUTIL_OBJ := $(TUTIL_SRC:%.c=$(BUILD)/%.o)
+TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/bin/%)
+TOOL_BIN  := $(TOOL_SRC:tests/tools/%.c=$(BUILD)/tools/%)
+
+LIBA  = $(BUILD)/libjetmesh.a
+LIBSO = $(BUILD)/libjetmesh.so
+FMTA  = $(BUILD)/libjetmesh_formats.a
+CLI   = $(BUILD)/jetmesh
+
+.PHONY: all deps deps-build check test-unit test-scripts demo bench fuzz fuzz-build install clean asan
+
+all: $(LIBA) $(LIBSO) $(CLI)
+
+$(BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+$(BUILD)/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	$(CXX) $(ALL_CXXFLAGS) -c $< -o $@
+
+$(LIBA): $(LIB_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(LIBSO): $(LIB_OBJ)
+	$(CC) -shared $(SAN) -pthread -o $@ $^ -lm
+
+$(FMTA): $(FMT_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(CLI): $(CLI_OBJ) $(FMTA) $(LIBA)
+	$(CC) $(SAN) -o $@ $(CLI_OBJ) $(FMTA) $(LIBA) $(LIBS)
+
+$(BUILD)/bin/%: $(BUILD)/tests/%.o $(TUTIL_OBJ) $(FMTA) $(LIBA)
+	@mkdir -p $(dir $@)
+	$(CC) $(SAN) -o $@ $< $(TUTIL_OBJ) $(FMTA) $(LIBA) -lcmocka $(LIBS)
+
+$(BUILD)/tools/%: $(BUILD)/tests/tools/%.o $(TUTIL_OBJ) $(FMTA) $(LIBA)
+	@mkdir -p $(dir $@)
+	$(CC) $(SAN) -o $@ $< $(TUTIL_OBJ) $(FMTA) $(LIBA) $(LIBS)
+
+deps:
+	@scripts/deps.sh all
+
+deps-build:
+	@scripts/deps.sh build
+
+# The test command: installs what is missing, builds, runs every test.
+check: deps
+	@$(MAKE) --no-print-directory all tests-build
+	@tests/run_all.sh $(BUILD)
+
+tests-build: $(TEST_BIN) $(TOOL_BIN) $(CLI)
+
+test-unit: tests-build
+	@tests/run_all.sh $(BUILD) unit
+
+test-scripts: tests-build
+	@tests/run_all.sh $(BUILD) scripts
+
+# The main job: convert the shipped jet sequence (see README).
+demo: deps
+	@$(MAKE) --no-print-directory all
+	@scripts/demo.sh $(BUILD)
+
+bench: deps-build
+	@$(MAKE) --no-print-directory all
+	@scripts/bench.sh $(BUILD)
+
+fuzz: deps
+	@scripts/fuzz.sh
+
+install: all
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(PREFIX)/lib $(DESTDIR)$(PREFIX)/include \
+	           $(DESTDIR)$(PREFIX)/share/man/man1
+	install -m 755 $(CLI) $(DESTDIR)$(PREFIX)/bin/jetmesh
+	install -m 644 $(LIBA) $(LIBSO) $(DESTDIR)$(PREFIX)/lib/
+	install -m 644 lib/jetmesh.h $(DESTDIR)$(PREFIX)/include/
+	install -m 644 man/jetmesh.1 $(DESTDIR)$(PREFIX)/share/man/man1/
+
+clean:
+	rm -rf $(BUILD) build-asan
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

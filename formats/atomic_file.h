@@ -1,0 +1,39 @@
+/* atomic_file.h - writes a file through a temporary beside it, renamed into place only when complete. */
+#ifndef JETMESH_FORMATS_ATOMIC_FILE_H
+#define JETMESH_FORMATS_ATOMIC_FILE_H
+
+#include <stdio.h>
+#include <stddef.h>
+#include "reader.h" /* jmf_status */
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** An output being written. The temporary is "DIR/.NAME.jetmesh-tmp-PID". */
+typedef struct jmf_atomic_file {
+    FILE *fp;          /**< write to this */
+    char *final_path;
+    char *temp_path;
+    size_t bytes;      /**< bytes written, set by jmf_atomic_commit */
+} jmf_atomic_file;
+
+/** Creates the temporary for path (refuses a path that is a directory). */
+jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, size_t errlen);
+
+/** Flushes, fsyncs, closes and renames the temporary over the final path.
+ *  On any failure (e.g. disk full) the temporary is removed and the final
+ *  path is left as it was. */
+jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen);
+
+/** Closes and removes the temporary; the final path is untouched. */
+void jmf_atomic_abort(jmf_atomic_file *af);
+
+/** Async-signal-safe: unlinks every temporary still open in this process.
+ *  For SIGINT/SIGTERM handlers, before _exit(). */
+void jmf_atomic_remove_pending(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,75 @@
+/* reader.h - reads one particle frame from a file or memory: CSV, XYZ, VTK, VTU, BGEO, PLY, gzip or not. */
+#ifndef JETMESH_FORMATS_READER_H
+#define JETMESH_FORMATS_READER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Results of the format layer (readers and writers). 0 is success. */
+typedef enum jmf_status {
+    JMF_OK = 0,
+    JMF_E_IO,          /**< missing path, a directory, read/write error, disk full */
+    JMF_E_FORMAT,      /**< malformed or truncated content, wrong magic, NaN */
+    JMF_E_UNSUPPORTED, /**< a valid file of a kind or variant we do not read */
+    JMF_E_NOMEM,       /**< allocation failed or a size overflowed */
+    JMF_E_LIMIT        /**< over a size limit given in the options */
+} jmf_status;
+
+typedef enum jmf_input_format {
+    JMF_IN_AUTO = 0, /**< magic first (gzip is unwrapped), then extension */
+    JMF_IN_CSV,
+    JMF_IN_XYZ,      /**< raw little-endian float32 x,y,z triples */
+    JMF_IN_VTK,      /**< legacy VTK, ASCII or binary, 4.x and 5.1 */
+    JMF_IN_VTU,      /**< VTK XML unstructured grid */
+    JMF_IN_BGEO,     /**< Houdini BgeoV 5 as partio/SPlisHSPlasH write it */
+    JMF_IN_PLY       /**< PLY ASCII / binary LE / binary BE, vertex x y z */
+} jmf_input_format;
+
+typedef struct jmf_read_options {
+    jmf_input_format format; /**< JMF_IN_AUTO by default */
+    int drop_invalid;        /**< 1: skip particles with NaN/inf coordinates and
+                                  count them in jmf_frame.dropped; 0: error */
+    size_t max_bytes;        /**< refuse inputs whose decoded size exceeds this;
+                                  0 = no limit */
+} jmf_read_options;
+
+/** One frame of particles, owned by the caller: free with jmf_frame_free(). */
+typedef struct jmf_frame {
+    float *xyz;          /**< 3 floats per particle */
+    uint32_t *ids;       /**< particle ids when the file has them, else NULL */
+    size_t count;
+    size_t dropped;      /**< invalid particles skipped with drop_invalid */
+    jmf_input_format format; /**< the format actually read */
+    int compressed;      /**< 1 if the file was gzip-compressed */
+} jmf_frame;
+
+/**
+ * Reads the particles of one frame from path. On failure returns non-zero,
+ * leaves *out zeroed and writes a one-line message into err (if errlen > 0)
+ * that names the file and the line (text) or byte offset (binary) and what
+ * was expected, e.g. "a.csv:12: expected 3 numbers, found 2".
+ */
+jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt,
+                              jmf_frame *out, char *err, size_t errlen);
+
+/** Same, from memory (name is only used in messages and for the extension). */
+jmf_status jmf_read_particles_mem(const void *data, size_t size, const char *name,
+                                  const jmf_read_options *opt, jmf_frame *out,
+                                  char *err, size_t errlen);
+
+/** Frees the arrays of a frame and zeroes it. NULL is allowed. */
+void jmf_frame_free(jmf_frame *frame);
+
+/** "csv", "xyz", ... ; "auto" for JMF_IN_AUTO. */
+const char *jmf_input_format_name(jmf_input_format f);
+/** Parses a name as given to --input-format; returns -1 if unknown. */
+int jmf_input_format_parse(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

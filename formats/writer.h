@@ -1,0 +1,61 @@
+/* writer.h - writes a jetmesh mesh to OBJ, glTF/GLB (tinygltf), Draco, PLY or VTK, atomically. */
+#ifndef JETMESH_FORMATS_WRITER_H
+#define JETMESH_FORMATS_WRITER_H
+
+#include <stddef.h>
+#include "reader.h"       /* jmf_status */
+#include "../lib/jetmesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum jmf_output_format {
+    JMF_OUT_AUTO = 0, /**< from the extension (.obj .gltf .glb .drc .ply .vtk;
+                           ".draco.glb"/".draco.gltf" mean glTF with Draco) */
+    JMF_OUT_OBJ,
+    JMF_OUT_GLTF,     /**< .gltf + .bin beside it (or embedded, see embed) */
+    JMF_OUT_GLB,
+    JMF_OUT_DRC,      /**< bare Draco mesh */
+    JMF_OUT_PLY,      /**< binary little-endian PLY */
+    JMF_OUT_VTK       /**< legacy VTK polydata, binary */
+} jmf_output_format;
+
+typedef struct jmf_write_options {
+    jmf_output_format format; /**< JMF_OUT_AUTO by default */
+    int draco;                /**< glTF/GLB: compress with KHR_draco_mesh_compression */
+    int embed;                /**< .gltf: embed the buffer as a data: URI */
+    int z_up;                 /**< 1: the simulation is +Z up; rotate to glTF's
+                                   +Y up (x, y, z) -> (x, z, -y) for glTF/GLB */
+    int draco_position_bits;  /**< default 16 (never below 14 by default) */
+    int draco_normal_bits;    /**< default 10 */
+    int draco_uv_bits;        /**< default 12 */
+    int draco_speed;          /**< 0-10 encoder speed; default 5 */
+    const char *generator;    /**< asset.generator; default "jetmesh <version>" */
+} jmf_write_options;
+
+/**
+ * Writes mesh to path. Every file is written to a temporary file beside its
+ * target and renamed into place when complete, so a failure never leaves a
+ * truncated file and never damages an existing one. out_bytes (may be NULL)
+ * receives the bytes written (all files). On failure, err gets one line
+ * naming the file and the cause.
+ */
+jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
+                          const jmf_write_options *opt, size_t *out_bytes,
+                          char *err, size_t errlen);
+
+/** The format jmf_write_mesh would use for path and opt (resolves AUTO);
+ *  sets *out_draco for the ".draco.glb" convention. -1 if unknown. */
+int jmf_output_format_for(const char *path, const jmf_write_options *opt, int *out_draco);
+
+/** "obj", "gltf", ... */
+const char *jmf_output_format_name(jmf_output_format f);
+/** Parses a name as given to --format ("obj", "gltf", "glb", "drc", "ply",
+ *  "vtk"); -1 if unknown. */
+int jmf_output_format_parse(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,38 @@
+#!/bin/sh
+# deps.sh - installs the Debian packages (and pinned npm test tools) jetmesh needs, if missing.
+# Usage: scripts/deps.sh [build|test|all]   (default: all)
+set -e
+what=${1:-all}
+build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libdraco-dev libcmocka-dev"
+test_pkgs="draco mandoc nodejs npm clang valgrind libclang-rt-14-dev"
+case "$what" in
+  build) pkgs="$build_pkgs" ;;
+  test|all) pkgs="$build_pkgs $test_pkgs" ;;
+  *) echo "usage: $0 [build|test|all]" >&2; exit 2 ;;
+esac
+missing=""
+for p in $pkgs; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  if [ "$(id -u)" = 0 ]; then
+    echo "deps: installing:$missing"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq >/dev/null
+    # shellcheck disable=SC2086
+    apt-get install -y -qq $missing >/dev/null
+  else
+    echo "deps: missing Debian packages:$missing" >&2
+    echo "deps: run as root:  apt-get install -y$missing" >&2
+    exit 1
+  fi
+fi
+if [ "$what" != build ]; then
+  here=$(cd "$(dirname "$0")/.." && pwd)
+  js="$here/tests/js"
+  if [ -f "$js/package.json" ] && ! [ -f "$js/node_modules/.jetmesh-ok" ] ; then
+    echo "deps: installing pinned npm test tools in tests/js"
+    (cd "$js" && npm ci --no-audit --no-fund --loglevel=error >/dev/null && touch node_modules/.jetmesh-ok)
+  fi
+fi
+exit 0

@@ -1,0 +1,40 @@
+#!/bin/sh
+# run_all.sh - runs every unit test binary and script test, then prints "N passed, N failed".
+# Usage: tests/run_all.sh BUILD_DIR [unit|scripts|all]
+BUILD=${1:-build}
+what=${2:-all}
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/.." && pwd)
+pass=0; fail=0; failed=""
+export JETMESH_BUILD="$root/$BUILD" JETMESH_ROOT="$root"
+export JETMESH="$root/$BUILD/jetmesh"
+export JETMESH_SHARED="${JETMESH_SHARED:-$root/../shared}"
+run() { # name, command...
+  name=$1; shift
+  log="$root/$BUILD/logs/$name.log"
+  mkdir -p "$root/$BUILD/logs"
+  start=$(date +%s)
+  if "$@" >"$log" 2>&1; then
+    pass=$((pass + 1)); st=ok
+  else
+    fail=$((fail + 1)); st=FAIL; failed="$failed $name"
+  fi
+  printf '%-40s %s (%ss)\n' "$name" "$st" "$(( $(date +%s) - start ))"
+  if [ "$st" = FAIL ]; then sed 's/^/    | /' "$log" | tail -n 40; fi
+}
+if [ "$what" != scripts ]; then
+  for t in "$root/$BUILD"/bin/test_*; do
+    [ -x "$t" ] || continue
+    run "$(basename "$t")" "$t"
+  done
+fi
+if [ "$what" != unit ]; then
+  for t in "$here"/t_*.sh; do
+    [ -f "$t" ] || continue
+    run "$(basename "$t" .sh)" sh "$t"
+  done
+fi
+echo
+[ -n "$failed" ] && echo "failed:$failed"
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]
