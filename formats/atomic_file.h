@@ -26,6 +26,12 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
  *  path is left as it was. */
 jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen);
 
+/** Writes n bytes to the temporary. On a short write (disk full, file too
+ *  large, I/O error) returns JMF_E_IO with one line naming the final path
+ *  and the cause; the caller then calls jmf_atomic_abort(). */
+jmf_status jmf_atomic_write(jmf_atomic_file *af, const void *data, size_t n,
+                            char *err, size_t errlen);
+
 /** Closes and removes the temporary; the final path is untouched. */
 void jmf_atomic_abort(jmf_atomic_file *af);
 
