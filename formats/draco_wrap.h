@@ -1,0 +1,61 @@
+/* draco_wrap.h - C interface to the libdraco encoder: a jm_mesh in, a compressed Draco mesh buffer out. */
+#ifndef JETMESH_FORMATS_DRACO_WRAP_H
+#define JETMESH_FORMATS_DRACO_WRAP_H
+
+#include <stddef.h>
+#include "reader.h" /* jmf_status */
+#include "../lib/jetmesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Defaults (used for fields <= 0). Positions get 16 bits: over the mesh's
+ * largest extent L that is a step of L/65535, far below the lattice spacing
+ * of any mesh jetmesh can produce, so neighbouring vertices stay apart.
+ * Normals get 10 bits (octahedral, under 0.2 degrees) and uvs 12. Speed 5
+ * is the fastest setting that still uses the Edgebreaker connectivity
+ * coder with parallelogram prediction; with any speed the face list is
+ * preserved exactly (quantization moves vertices, never merges them). */
+#define JMF_DRACO_POSITION_BITS 16
+#define JMF_DRACO_NORMAL_BITS 10
+#define JMF_DRACO_UV_BITS 12
+#define JMF_DRACO_SPEED 5
+
+typedef struct jmf_draco_params {
+    int position_bits; /**< 1-30; <= 0: JMF_DRACO_POSITION_BITS */
+    int normal_bits;   /**< 1-30; <= 0: JMF_DRACO_NORMAL_BITS */
+    int uv_bits;       /**< 1-30; <= 0: JMF_DRACO_UV_BITS */
+    int speed;         /**< 0 (best compression) - 10 (fastest); < 0: JMF_DRACO_SPEED */
+} jmf_draco_params;
+
+/** A Draco-compressed mesh, owned by the caller: free with jmf_draco_blob_free(). */
+typedef struct jmf_draco_blob {
+    unsigned char *data;
+    size_t size;
+    size_t num_points; /**< points a decoder will produce */
+    size_t num_faces;  /**< triangles a decoder will produce */
+    int position_id;   /**< Draco unique attribute ids (for KHR_draco_mesh_compression) */
+    int normal_id;     /**< -1 when the mesh has no normals */
+    int uv_id;         /**< -1 when the mesh has no uvs */
+} jmf_draco_blob;
+
+/** Fills p with the defaults. */
+void jmf_draco_params_default(jmf_draco_params *p);
+
+/**
+ * Encodes positions, normals (when present) and uvs (when present) with the
+ * Edgebreaker coder. A mesh without triangles is refused (JMF_E_UNSUPPORTED):
+ * the Draco coder cannot store an empty mesh. name is used in messages.
+ */
+jmf_status jmf_draco_encode(const jm_mesh *mesh, const jmf_draco_params *p,
+                            const char *name, jmf_draco_blob *out,
+                            char *err, size_t errlen);
+
+/** Frees the buffer and zeroes the blob. NULL is allowed. */
+void jmf_draco_blob_free(jmf_draco_blob *blob);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

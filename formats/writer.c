@@ -1,0 +1,237 @@
+/* writer.c - jmf_write_mesh: picks the output format from the options or the file name and writes it atomically. */
+#include "writer.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "atomic_file.h"
+#include "draco_wrap.h"
+#include "gltf_wrap.h"
+#include "write_formats.h"
+
+static const char *const k_names[] = {"auto", "obj", "gltf", "glb", "drc", "ply", "vtk"};
+#define N_FORMATS ((int)(sizeof k_names / sizeof k_names[0]))
+
+const char *jmf_output_format_name(jmf_output_format f)
+{
+    return (int)f >= 0 && (int)f < N_FORMATS ? k_names[f] : "unknown";
+}
+
+int jmf_output_format_parse(const char *name)
+{
+    if (!name) return -1;
+    for (int i = 0; i < N_FORMATS; i++)
+        if (strcasecmp(name, k_names[i]) == 0) return i;
+    return -1;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && strcasecmp(s + n - k, suffix) == 0;
+}
+
+int jmf_output_format_for(const char *path, const jmf_write_options *opt, int *out_draco)
+{
+    int draco = opt ? opt->draco != 0 : 0;
+    int f = -1;
+    if (path && (ends_with(path, ".draco.glb") || ends_with(path, ".draco.gltf"))) draco = 1;
+    if (opt && opt->format != JMF_OUT_AUTO) {
+        f = (int)opt->format > 0 && (int)opt->format < N_FORMATS ? (int)opt->format : -1;
+    } else if (path) {
+        const char *dot = strrchr(path, '.');
+        const char *slash = strrchr(path, '/');
+        if (dot && (!slash || dot > slash)) {
+            int g = jmf_output_format_parse(dot + 1);
+            f = g > 0 ? g : -1;
+        }
+    }
+    if (f == JMF_OUT_DRC) draco = 1;
+    if (out_draco) *out_draco = f < 0 ? 0 : draco;
+    return f;
+}
+
+static const char *default_generator(const jmf_write_options *opt)
+{
+    return opt && opt->generator ? opt->generator : "jetmesh " JM_VERSION_STRING;
+}
+
+/* Writes the whole of data to path, atomically. */
+static jmf_status write_bytes(const char *path, const void *data, size_t n, size_t *bytes,
+                              char *err, size_t errlen)
+{
+    jmf_atomic_file af;
+    jmf_status st = jmf_atomic_open(&af, path, err, errlen);
+    if (st) return st;
+    st = jmf_atomic_write(&af, data, n, err, errlen);
+    if (st) {
+        jmf_atomic_abort(&af);
+        return st;
+    }
+    st = jmf_atomic_commit(&af, err, errlen);
+    if (!st) *bytes += af.bytes;
+    return st;
+}
+
+typedef jmf_status (*c_writer)(jmf_atomic_file *, const jm_mesh *, const char *, char *, size_t);
+
+static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer fn,
+                                 const jmf_write_options *opt, size_t *bytes,
+                                 char *err, size_t errlen)
+{
+    jmf_atomic_file af;
+    jmf_status st = jmf_atomic_open(&af, path, err, errlen);
+    if (st) return st;
+    st = fn(&af, mesh, default_generator(opt), err, errlen);
+    if (st) {
+        jmf_atomic_abort(&af);
+        return st;
+    }
+    st = jmf_atomic_commit(&af, err, errlen);
+    if (!st) *bytes += af.bytes;
+    return st;
+}
+
+static jmf_draco_params draco_params(const jmf_write_options *opt)
+{
+    jmf_draco_params p;
+    jmf_draco_params_default(&p);
+    if (opt) {
+        if (opt->draco_position_bits > 0) p.position_bits = opt->draco_position_bits;
+        if (opt->draco_normal_bits > 0) p.normal_bits = opt->draco_normal_bits;
+        if (opt->draco_uv_bits > 0) p.uv_bits = opt->draco_uv_bits;
+        if (opt->draco_speed > 0) p.speed = opt->draco_speed;
+    }
+    return p;
+}
+
+static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
+                            size_t *bytes, char *err, size_t errlen)
+{
+    jmf_draco_params p = draco_params(opt);
+    jmf_draco_blob blob;
+    jmf_status st = jmf_draco_encode(mesh, &p, path, &blob, err, errlen);
+    if (st) return st;
+    st = write_bytes(path, blob.data, blob.size, bytes, err, errlen);
+    jmf_draco_blob_free(&blob);
+    return st;
+}
+
+/* "dir/x.gltf" -> "dir/x.bin"; any other name gets ".bin" appended. */
+static char *bin_path_for(const char *path)
+{
+    size_t n = strlen(path);
+    size_t stem = ends_with(path, ".gltf") ? n - 5 : n;
+    char *b = malloc(stem + 5);
+    if (!b) return NULL;
+    memcpy(b, path, stem);
+    memcpy(b + stem, ".bin", 5);
+    return b;
+}
+
+static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int draco,
+                             const jmf_write_options *opt, size_t *bytes,
+                             char *err, size_t errlen)
+{
+    jmf_gltf_params p;
+    memset(&p, 0, sizeof p);
+    p.container = glb ? JMF_GLTF_BINARY : opt && opt->embed ? JMF_GLTF_EMBEDDED : JMF_GLTF_SEPARATE;
+    p.generator = default_generator(opt);
+    p.z_up = opt ? opt->z_up : 0;
+    p.draco = draco;
+    p.draco_params = draco_params(opt);
+    p.name = path;
+    char *bin_path = NULL;
+    if (p.container == JMF_GLTF_SEPARATE) {
+        bin_path = bin_path_for(path);
+        if (!bin_path) {
+            snprintf(err, errlen, "%s: out of memory", path);
+            return JMF_E_NOMEM;
+        }
+        const char *slash = strrchr(bin_path, '/');
+        p.bin_uri = slash ? slash + 1 : bin_path;
+    }
+    jmf_gltf_output out;
+    jmf_status st = jmf_gltf_build(mesh, &p, &out, err, errlen);
+    if (st) {
+        free(bin_path);
+        return st;
+    }
+    if (!bin_path || out.bin_size == 0) {
+        st = write_bytes(path, out.main, out.main_size, bytes, err, errlen);
+    } else {
+        /* Both temporaries are complete before either is renamed; the .bin
+         * goes first so that the .gltf never names a missing buffer. */
+        jmf_atomic_file fb, fg;
+        st = jmf_atomic_open(&fb, bin_path, err, errlen);
+        if (!st) {
+            st = jmf_atomic_open(&fg, path, err, errlen);
+            if (st) jmf_atomic_abort(&fb);
+        }
+        if (!st) {
+            st = jmf_atomic_write(&fb, out.bin, out.bin_size, err, errlen);
+            if (!st) st = jmf_atomic_write(&fg, out.main, out.main_size, err, errlen);
+            if (!st) st = jmf_atomic_commit(&fb, err, errlen);
+            else jmf_atomic_abort(&fb);
+            if (!st) {
+                *bytes += fb.bytes;
+                st = jmf_atomic_commit(&fg, err, errlen);
+                if (!st) *bytes += fg.bytes;
+            } else {
+                jmf_atomic_abort(&fg);
+            }
+        }
+    }
+    jmf_gltf_output_free(&out);
+    free(bin_path);
+    return st;
+}
+
+jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
+                          const jmf_write_options *opt, size_t *out_bytes,
+                          char *err, size_t errlen)
+{
+    size_t bytes = 0;
+    if (out_bytes) *out_bytes = 0;
+    if (err && errlen) err[0] = '\0';
+    if (!path || !*path) {
+        snprintf(err, errlen, "no output path");
+        return JMF_E_IO;
+    }
+    if (!mesh || (mesh->vertex_count && !mesh->positions) ||
+        (mesh->triangle_count && !mesh->indices)) {
+        snprintf(err, errlen, "%s: no mesh data to write", path);
+        return JMF_E_FORMAT;
+    }
+    for (size_t i = 0; i < 3 * mesh->triangle_count; i++)
+        if (mesh->indices[i] >= mesh->vertex_count) {
+            snprintf(err, errlen, "%s: triangle %zu uses vertex %u but the mesh has %zu",
+                     path, i / 3, (unsigned)mesh->indices[i], mesh->vertex_count);
+            return JMF_E_FORMAT;
+        }
+    int draco = 0;
+    int f = jmf_output_format_for(path, opt, &draco);
+    if (f < 0) {
+        snprintf(err, errlen, "%s: unknown output format (use .obj, .gltf, .glb, .drc, "
+                 ".ply or .vtk, or name the format)", path);
+        return JMF_E_UNSUPPORTED;
+    }
+    if (draco && f != JMF_OUT_GLTF && f != JMF_OUT_GLB && f != JMF_OUT_DRC) {
+        snprintf(err, errlen, "%s: Draco compression applies to glTF, GLB and .drc only, not %s",
+                 path, jmf_output_format_name((jmf_output_format)f));
+        return JMF_E_UNSUPPORTED;
+    }
+    jmf_status st;
+    switch (f) {
+    case JMF_OUT_OBJ: st = write_c_format(path, mesh, jmf_write_obj, opt, &bytes, err, errlen); break;
+    case JMF_OUT_PLY: st = write_c_format(path, mesh, jmf_write_ply, opt, &bytes, err, errlen); break;
+    case JMF_OUT_VTK: st = write_c_format(path, mesh, jmf_write_vtk, opt, &bytes, err, errlen); break;
+    case JMF_OUT_DRC: st = write_drc(path, mesh, opt, &bytes, err, errlen); break;
+    case JMF_OUT_GLTF: st = write_gltf(path, mesh, 0, draco, opt, &bytes, err, errlen); break;
+    default: st = write_gltf(path, mesh, 1, draco, opt, &bytes, err, errlen); break;
+    }
+    if (!st && out_bytes) *out_bytes = bytes;
+    return st;
+}
