@@ -1,0 +1,439 @@
+/* options.c - parses the options of `jetmesh convert` and `jetmesh generate` with getopt_long. */
+#include "options.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "platform.h"
+#include "scenes.h"
+#include "stats.h"
+
+int options_usage_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "jetmesh %s: ", cmd);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\nTry 'jetmesh %s --help' for more information.\n", cmd);
+    return OPTIONS_USAGE;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (*end || errno || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (*end || errno || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int options_parse_size(const char *s, size_t *out)
+{
+    if (!s || !*s)
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || !isfinite(v) || v < 0 || end == s)
+        return -1;
+    double mul = 1;
+    switch (*end) {
+    case 'k': case 'K': mul = 1024.0; end++; break;
+    case 'm': case 'M': mul = 1024.0 * 1024; end++; break;
+    case 'g': case 'G': mul = 1024.0 * 1024 * 1024; end++; break;
+    case 't': case 'T': mul = 1024.0 * 1024 * 1024 * 1024; end++; break;
+    default: break;
+    }
+    if (mul > 1 && *end == 'i')
+        end++;
+    if (*end == 'B' || *end == 'b')
+        end++;
+    if (*end)
+        return -1;
+    double bytes = v * mul;
+    if (bytes >= 18446744073709551615.0 || bytes > (double)(size_t)-1)
+        return -1;
+    *out = (size_t)bytes;
+    return 0;
+}
+
+size_t options_default_max_memory(void)
+{
+    return platform_physical_memory() / 2;
+}
+
+void options_convert_help(FILE *f)
+{
+    fputs(
+        "Usage: jetmesh convert [options] INPUT... -o OUTPUT\n"
+        "Meshes particle frames into triangle meshes, one output per input frame.\n"
+        "\n"
+        "Inputs: files, or patterns: frame_{}.vtk (existing files whose {} part is\n"
+        "digits, in numeric order) or frame_%04d.vtk (with --frames: exactly that range).\n"
+        "OUTPUT: a file (one frame), a template with {} or %04d (the frame number), or\n"
+        "a directory (several frames: DIR/<input name>.<ext>, ext from --format, else glb).\n"
+        "\n"
+        "Meshing:\n"
+        "  -r, --radius R              particle radius in world units (required)\n"
+        "  -c, --cube-size C           lattice cube edge, relative to R (default 0.5)\n"
+        "      --field metasphere|sph  implicit function (default metasphere)\n"
+        "      --method mt|mc          marching tetrahedra or cubes (default mt)\n"
+        "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
+        "      --smoothing-length L    sph kernel length h, relative to R (default 2)\n"
+        "      --link-distance L       metasphere neck link distance, relative to R (default pi)\n"
+        "  -j, --threads N             worker threads per frame; 0 = all cores (default 0)\n"
+        "      --uv box|planar|spherical|none  texture coordinates (default box)\n"
+        "      --uv-scale S            world units per texture repeat (default 16 R)\n"
+        "      --no-normals            write no normals\n"
+        "      --no-templates          mesh isolated particles through the lattice too\n"
+        "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
+        "                              limit; default half the physical memory)\n"
+        "\n"
+        "Input and output:\n"
+        "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
+        "      --frames START:END[:STEP]  select frame numbers; END is inclusive\n"
+        "      --drop-invalid          skip particles with NaN/inf coordinates\n"
+        "  -o, --output OUTPUT         output file, template or directory\n"
+        "      --format obj|gltf|glb|drc|ply|vtk  (default: from OUTPUT's extension)\n"
+        "      --draco                 glTF/GLB: KHR_draco_mesh_compression\n"
+        "      --embed                 .gltf: embed the buffer (no .bin beside it)\n"
+        "      --z-up                  input is +Z up: rotate to glTF's +Y up\n"
+        "      --draco-position-bits N quantisation bits (default 16)\n"
+        "      --draco-normal-bits N   (default 10)\n"
+        "      --draco-uv-bits N       (default 12)\n"
+        "\n"
+        "Running:\n"
+        "      --keep-going            convert every other frame after a failure\n"
+        "      --resume                skip frames whose output already exists\n"
+        "      --stats FILE.csv|FILE.json  per-frame statistics and a summary\n"
+        "      --stats-svg FILE.svg    stacked bar chart of time per frame by stage\n"
+        "  -q, --quiet                 no per-frame lines, no progress bar\n"
+        "  -v, --verbose               parameters and stage times too\n"
+        "      --help                  this help\n"
+        "      --version               print the version\n"
+        "\n"
+        "Exit status: 0 all frames converted, 1 some failed, 2 usage error,\n"
+        "3 out of memory, over --max-memory or internal error. See jetmesh(1).\n",
+        f);
+}
+
+void options_generate_help(FILE *f)
+{
+    fputs("Usage: jetmesh generate SCENE [N] -o OUTPUT [options]\n"
+          "Writes a deterministic synthetic particle scene as CSV or XYZ (by extension).\n"
+          "\n"
+          "Scenes:\n"
+          "  jet       the 125-particle liquid jet, a sequence of frames 0..99\n"
+          "  block N   N particles on a cubic lattice of spacing 2R, jittered\n"
+          "  spray N   N isolated droplets at least 8R apart\n"
+          "\n"
+          "Options:\n"
+          "  -o, --output OUTPUT         .csv or .xyz file; with {} or %03d, one per frame\n"
+          "  -r, --radius R              particle radius (default 0.025)\n"
+          "      --seed S                seed of block and spray (default 1; frame F uses S+F)\n"
+          "      --frames START:END[:STEP]  frames to write (END inclusive; jet default\n"
+          "                              0:99 with a template, else 99)\n"
+          "  -q, --quiet                 print nothing but errors\n"
+          "      --help                  this help\n",
+          f);
+}
+
+enum {
+    O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
+    O_NOTEMPLATES, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
+    O_FRAMES, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
+};
+
+static const struct option convert_long[] = {
+    {"radius", required_argument, 0, 'r'},
+    {"cube-size", required_argument, 0, 'c'},
+    {"field", required_argument, 0, O_FIELD},
+    {"method", required_argument, 0, O_METHOD},
+    {"threshold", required_argument, 0, O_THRESHOLD},
+    {"smoothing-length", required_argument, 0, O_SMOOTH},
+    {"link-distance", required_argument, 0, O_LINK},
+    {"threads", required_argument, 0, 'j'},
+    {"uv", required_argument, 0, O_UV},
+    {"uv-scale", required_argument, 0, O_UVSCALE},
+    {"no-normals", no_argument, 0, O_NONORMALS},
+    {"no-templates", no_argument, 0, O_NOTEMPLATES},
+    {"output", required_argument, 0, 'o'},
+    {"format", required_argument, 0, O_FORMAT},
+    {"draco", no_argument, 0, O_DRACO},
+    {"embed", no_argument, 0, O_EMBED},
+    {"z-up", no_argument, 0, O_ZUP},
+    {"draco-position-bits", required_argument, 0, O_DPOS},
+    {"draco-normal-bits", required_argument, 0, O_DNORM},
+    {"draco-uv-bits", required_argument, 0, O_DUV},
+    {"input-format", required_argument, 0, O_INFORMAT},
+    {"frames", required_argument, 0, O_FRAMES},
+    {"stats", required_argument, 0, O_STATS},
+    {"stats-svg", required_argument, 0, O_STATSSVG},
+    {"drop-invalid", no_argument, 0, O_DROP},
+    {"keep-going", no_argument, 0, O_KEEP},
+    {"resume", no_argument, 0, O_RESUME},
+    {"max-memory", required_argument, 0, O_MAXMEM},
+    {"quiet", no_argument, 0, 'q'},
+    {"verbose", no_argument, 0, 'v'},
+    {"help", no_argument, 0, O_HELP},
+    {"version", no_argument, 0, O_VERSION},
+    {0, 0, 0, 0},
+};
+
+/* The message for getopt's '?' and ':' results. */
+static int getopt_problem(const char *cmd, int c, char **argv)
+{
+    const char *arg = argv[optind - 1];
+    if (c == ':')
+        return options_usage_error(cmd, "option '%s' needs a value", arg);
+    if (optopt)
+        return options_usage_error(cmd, "unknown option '-%c'", optopt);
+    return options_usage_error(cmd, "unknown option '%s'", arg);
+}
+
+static int positive(const char *cmd, const char *name, const char *arg, float *out)
+{
+    double v;
+    if (parse_double(arg, &v) != 0 || !(v > 0) || v > 1e30)
+        return options_usage_error(cmd, "%s must be a number above 0, not '%s'", name, arg);
+    *out = (float)v;
+    return OPTIONS_RUN;
+}
+
+static int bits(const char *cmd, const char *name, const char *arg, int *out)
+{
+    long v;
+    if (parse_long(arg, 1, 30, &v) != 0)
+        return options_usage_error(cmd, "%s must be a whole number from 1 to 30, not '%s'", name, arg);
+    *out = (int)v;
+    return OPTIONS_RUN;
+}
+
+int options_parse_convert(int argc, char **argv, convert_options *o)
+{
+    const char *cmd = "convert";
+    memset(o, 0, sizeof *o);
+    o->max_memory = options_default_max_memory();
+    int radius_given = 0, rc = OPTIONS_RUN;
+    optind = 0; /* GNU: full reinitialisation */
+    opterr = 0;
+    int c;
+    while (rc == OPTIONS_RUN &&
+           (c = getopt_long(argc, argv, ":r:c:j:o:qv", convert_long, NULL)) != -1) {
+        double d = 0;
+        long l = 0;
+        int k;
+        switch (c) {
+        case 'r':
+            rc = positive(cmd, "--radius", optarg, &o->params.radius);
+            radius_given = 1;
+            break;
+        case 'c': rc = positive(cmd, "--cube-size", optarg, &o->params.cube_size); break;
+        case O_FIELD:
+            if (strcmp(optarg, "metasphere") == 0)
+                o->params.field = JM_FIELD_METASPHERE;
+            else if (strcmp(optarg, "sph") == 0)
+                o->params.field = JM_FIELD_SPH;
+            else
+                rc = options_usage_error(cmd, "--field is metasphere or sph, not '%s'", optarg);
+            break;
+        case O_METHOD:
+            if (strcmp(optarg, "mt") == 0)
+                o->params.method = JM_METHOD_MT;
+            else if (strcmp(optarg, "mc") == 0)
+                o->params.method = JM_METHOD_MC;
+            else
+                rc = options_usage_error(cmd, "--method is mt or mc, not '%s'", optarg);
+            break;
+        case O_THRESHOLD:
+            if (parse_double(optarg, &d) != 0)
+                rc = options_usage_error(cmd, "--threshold must be a number, not '%s'", optarg);
+            o->params.threshold = (float)d;
+            o->threshold_given = 1;
+            break;
+        case O_SMOOTH: rc = positive(cmd, "--smoothing-length", optarg, &o->params.smoothing_length); break;
+        case O_LINK: rc = positive(cmd, "--link-distance", optarg, &o->params.link_distance); break;
+        case 'j':
+            if (parse_long(optarg, 0, 4096, &l) != 0)
+                rc = options_usage_error(cmd, "--threads must be a whole number from 0 to 4096, not '%s'",
+                                         optarg);
+            o->params.threads = (int)l;
+            break;
+        case O_UV:
+            if (strcmp(optarg, "box") == 0)
+                o->params.uv_mode = JM_UV_BOX;
+            else if (strcmp(optarg, "planar") == 0)
+                o->params.uv_mode = JM_UV_PLANAR;
+            else if (strcmp(optarg, "spherical") == 0)
+                o->params.uv_mode = JM_UV_SPHERICAL;
+            else if (strcmp(optarg, "none") == 0)
+                o->params.uv_mode = JM_UV_NONE;
+            else
+                rc = options_usage_error(cmd, "--uv is box, planar, spherical or none, not '%s'", optarg);
+            break;
+        case O_UVSCALE: rc = positive(cmd, "--uv-scale", optarg, &o->params.uv_scale); break;
+        case O_NONORMALS: o->params.no_normals = 1; break;
+        case O_NOTEMPLATES: o->params.no_templates = 1; break;
+        case 'o': o->output = optarg; break;
+        case O_FORMAT:
+            k = jmf_output_format_parse(optarg);
+            if (k < 0)
+                rc = options_usage_error(cmd, "--format is obj, gltf, glb, drc, ply or vtk, not '%s'",
+                                         optarg);
+            else {
+                o->write.format = (jmf_output_format)k;
+                o->format_given = 1;
+            }
+            break;
+        case O_DRACO: o->write.draco = 1; break;
+        case O_EMBED: o->write.embed = 1; break;
+        case O_ZUP: o->write.z_up = 1; break;
+        case O_DPOS: rc = bits(cmd, "--draco-position-bits", optarg, &o->write.draco_position_bits); break;
+        case O_DNORM: rc = bits(cmd, "--draco-normal-bits", optarg, &o->write.draco_normal_bits); break;
+        case O_DUV: rc = bits(cmd, "--draco-uv-bits", optarg, &o->write.draco_uv_bits); break;
+        case O_INFORMAT:
+            k = jmf_input_format_parse(optarg);
+            if (k < 0)
+                rc = options_usage_error(
+                    cmd, "--input-format is auto, csv, xyz, vtk, vtu, bgeo or ply, not '%s'", optarg);
+            else
+                o->read.format = (jmf_input_format)k;
+            break;
+        case O_FRAMES: {
+            char err[256];
+            if (seq_range_parse(optarg, &o->frames, err, sizeof err) != 0)
+                rc = options_usage_error(cmd, "--frames: %s", err);
+            break;
+        }
+        case O_STATS:
+            if (!stats_path_ok(optarg))
+                rc = options_usage_error(cmd, "--stats FILE must end in .csv or .json, not '%s'", optarg);
+            o->stats_path = optarg;
+            break;
+        case O_STATSSVG: o->stats_svg = optarg; break;
+        case O_DROP: o->read.drop_invalid = 1; break;
+        case O_KEEP: o->keep_going = 1; break;
+        case O_RESUME: o->resume = 1; break;
+        case O_MAXMEM:
+            if (options_parse_size(optarg, &o->max_memory) != 0)
+                rc = options_usage_error(cmd, "--max-memory must be a size like 2G or 500M, not '%s'",
+                                         optarg);
+            break;
+        case 'q': o->quiet = 1; o->verbose = 0; break;
+        case 'v': o->verbose = 1; o->quiet = 0; break;
+        case O_HELP: options_convert_help(stdout); return OPTIONS_DONE;
+        case O_VERSION: printf("jetmesh %s\n", JM_VERSION_STRING); return OPTIONS_DONE;
+        default: rc = getopt_problem(cmd, c, argv); break;
+        }
+    }
+    if (rc != OPTIONS_RUN)
+        return rc;
+    o->inputs = argv + optind;
+    o->ninputs = (size_t)(argc - optind);
+    if (o->ninputs == 0)
+        return options_usage_error(cmd, "no input files");
+    if (!o->output)
+        return options_usage_error(cmd, "no output: give -o OUTPUT");
+    if (!radius_given)
+        return options_usage_error(cmd, "the particle radius is required: give -r R");
+    o->params.max_bytes = o->max_memory;
+    o->read.max_bytes = o->max_memory;
+    return OPTIONS_RUN;
+}
+
+static const struct option generate_long[] = {
+    {"output", required_argument, 0, 'o'},
+    {"radius", required_argument, 0, 'r'},
+    {"seed", required_argument, 0, O_SEED},
+    {"frames", required_argument, 0, O_FRAMES},
+    {"quiet", no_argument, 0, 'q'},
+    {"help", no_argument, 0, O_HELP},
+    {"version", no_argument, 0, O_VERSION},
+    {0, 0, 0, 0},
+};
+
+int options_parse_generate(int argc, char **argv, generate_options *o)
+{
+    const char *cmd = "generate";
+    memset(o, 0, sizeof *o);
+    o->radius = SCENE_DEFAULT_RADIUS;
+    o->seed = 1;
+    int rc = OPTIONS_RUN, c;
+    optind = 0;
+    opterr = 0;
+    while (rc == OPTIONS_RUN && (c = getopt_long(argc, argv, ":o:r:q", generate_long, NULL)) != -1) {
+        double d = 0;
+        switch (c) {
+        case 'o': o->output = optarg; break;
+        case 'r':
+            if (parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
+                rc = options_usage_error(cmd, "--radius must be a number above 0, not '%s'", optarg);
+            o->radius = d;
+            break;
+        case O_SEED: {
+            char *end;
+            errno = 0;
+            unsigned long long s = strtoull(optarg, &end, 10);
+            if (!*optarg || *end || errno || optarg[0] == '-')
+                rc = options_usage_error(cmd, "--seed must be a whole number, not '%s'", optarg);
+            o->seed = (uint64_t)s;
+            break;
+        }
+        case O_FRAMES: {
+            char err[256];
+            if (seq_range_parse(optarg, &o->frames, err, sizeof err) != 0)
+                rc = options_usage_error(cmd, "--frames: %s", err);
+            break;
+        }
+        case 'q': o->quiet = 1; break;
+        case O_HELP: options_generate_help(stdout); return OPTIONS_DONE;
+        case O_VERSION: printf("jetmesh %s\n", JM_VERSION_STRING); return OPTIONS_DONE;
+        default: rc = getopt_problem(cmd, c, argv); break;
+        }
+    }
+    if (rc != OPTIONS_RUN)
+        return rc;
+    int nargs = argc - optind;
+    if (nargs < 1)
+        return options_usage_error(cmd, "no scene: give jet, block N or spray N");
+    o->scene = argv[optind];
+    int needs_n = strcmp(o->scene, "block") == 0 || strcmp(o->scene, "spray") == 0;
+    if (!needs_n && strcmp(o->scene, "jet") != 0)
+        return options_usage_error(cmd, "unknown scene '%s': give jet, block N or spray N", o->scene);
+    if (needs_n) {
+        long n;
+        if (nargs < 2)
+            return options_usage_error(cmd, "%s needs a particle count N", o->scene);
+        if (parse_long(argv[optind + 1], 0, 1000000000L, &n) != 0)
+            return options_usage_error(cmd, "N must be a whole number from 0 to 1000000000, not '%s'",
+                                       argv[optind + 1]);
+        o->count = (size_t)n;
+    }
+    if (nargs > (needs_n ? 2 : 1))
+        return options_usage_error(cmd, "unexpected argument '%s'", argv[optind + (needs_n ? 2 : 1)]);
+    if (!o->output)
+        return options_usage_error(cmd, "no output: give -o FILE.csv or FILE.xyz");
+    return OPTIONS_RUN;
+}

@@ -1,0 +1,68 @@
+/* options.h - command-line parsing of `jetmesh convert` and `jetmesh generate`, and their --help texts. */
+#ifndef JETMESH_CLI_OPTIONS_H
+#define JETMESH_CLI_OPTIONS_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "../formats/reader.h"
+#include "../formats/writer.h"
+#include "../lib/jetmesh.h"
+#include "sequence.h"
+
+/* What a parse function returns. */
+#define OPTIONS_RUN 0   /* go on */
+#define OPTIONS_DONE -1 /* --help or --version was printed: exit 0 */
+#define OPTIONS_USAGE 2 /* a usage error was printed: exit 2 */
+
+typedef struct convert_options {
+    jm_params params;        /* radius, cube size, field, ... (0 = default) */
+    jmf_read_options read;   /* input format, drop_invalid, max_bytes */
+    jmf_write_options write; /* output format, draco, embed, z_up, bits */
+    int format_given;        /* --format was given */
+    char **inputs;           /* the operands (into argv) */
+    size_t ninputs;
+    const char *output;      /* -o */
+    seq_range frames;        /* --frames */
+    const char *stats_path;  /* --stats FILE.csv|FILE.json */
+    const char *stats_svg;   /* --stats-svg FILE.svg */
+    int keep_going, resume, quiet, verbose;
+    int threshold_given;
+    size_t max_memory;       /* bytes; 0 = no limit */
+} convert_options;
+
+typedef struct generate_options {
+    const char *scene;  /* "jet", "block" or "spray" */
+    size_t count;       /* N of block and spray */
+    double radius;      /* -r, default 0.025 */
+    uint64_t seed;      /* --seed, default 1 */
+    seq_range frames;   /* --frames */
+    const char *output; /* -o */
+    int quiet;
+} generate_options;
+
+/** Parses argv (argv[0] = "convert"). Fills o and returns OPTIONS_*. */
+int options_parse_convert(int argc, char **argv, convert_options *o);
+
+/** Parses argv (argv[0] = "generate"). */
+int options_parse_generate(int argc, char **argv, generate_options *o);
+
+void options_convert_help(FILE *f);
+void options_generate_help(FILE *f);
+
+/** Parses a size: a number of bytes with an optional K, M, G or T suffix
+ *  (powers of 1024; "B"/"iB" may follow): "2G", "500M", "1.5GiB".
+ *  0 on success, -1 if malformed. */
+int options_parse_size(const char *s, size_t *out);
+
+/** The default --max-memory: half the physical memory (0 if unknown). */
+size_t options_default_max_memory(void);
+
+/** Prints "jetmesh CMD: message" and the --help hint on stderr; returns OPTIONS_USAGE. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+int options_usage_error(const char *cmd, const char *fmt, ...);
+
+#endif
