@@ -1,0 +1,94 @@
+// compare_positions.mjs - checks that two vertex sets match point for point within a per-axis tolerance, in any order.
+//
+// Usage: node compare_positions.mjs A B --tol T
+// A and B are raw little-endian float32 x y z files (.f32) or OBJ files
+// ("v x y z" lines). Every point of A must have a point of B within T on
+// each axis, and every point of B one of A (so a decoder that reorders
+// vertices, as Draco's Edgebreaker does, still compares). Prints JSON with
+// the counts and the largest per-axis error found each way; exit status 1
+// when the counts differ or an error exceeds T.
+import { readFile } from 'node:fs/promises';
+
+async function load(file) {
+  if (/\.obj$/i.test(file)) {
+    const text = await readFile(file, 'utf8');
+    const v = [];
+    for (const line of text.split('\n')) {
+      if (!line.startsWith('v ')) continue;
+      const p = line.trim().split(/\s+/);
+      v.push(+p[1], +p[2], +p[3]);
+    }
+    return Float32Array.from(v);
+  }
+  const b = await readFile(file);
+  if (b.length % 12) throw new Error(`${file}: size ${b.length} is not a multiple of 12`);
+  return new Float32Array(b.buffer.slice(b.byteOffset, b.byteOffset + b.length));
+}
+
+// Largest over the points of a of the per-axis (Chebyshev) distance to the
+// nearest point of b, found through a hash grid of cell size >= tol.
+function maxNearest(a, b, tol) {
+  const h = Math.max(tol, 1e-12);
+  const key = (x, y, z) => `${x},${y},${z}`;
+  const grid = new Map();
+  for (let i = 0; i < b.length / 3; i++) {
+    const k = key(Math.floor(b[3 * i] / h), Math.floor(b[3 * i + 1] / h), Math.floor(b[3 * i + 2] / h));
+    let list = grid.get(k);
+    if (!list) grid.set(k, (list = []));
+    list.push(i);
+  }
+  let worst = 0;
+  const axis = [0, 0, 0];
+  for (let i = 0; i < a.length / 3; i++) {
+    const x = a[3 * i], y = a[3 * i + 1], z = a[3 * i + 2];
+    const cx = Math.floor(x / h), cy = Math.floor(y / h), cz = Math.floor(z / h);
+    let best = Infinity;
+    let bestAxis = null;
+    for (let dx = -1; dx <= 1; dx++)
+      for (let dy = -1; dy <= 1; dy++)
+        for (let dz = -1; dz <= 1; dz++) {
+          const list = grid.get(key(cx + dx, cy + dy, cz + dz));
+          if (!list) continue;
+          for (const j of list) {
+            const e = [Math.abs(b[3 * j] - x), Math.abs(b[3 * j + 1] - y), Math.abs(b[3 * j + 2] - z)];
+            const d = Math.max(...e);
+            if (d < best) {
+              best = d;
+              bestAxis = e;
+            }
+          }
+        }
+    if (best > worst) worst = best;
+    if (bestAxis) for (let k = 0; k < 3; k++) axis[k] = Math.max(axis[k], bestAxis[k]);
+  }
+  return { worst, axis };
+}
+
+async function main() {
+  const args = process.argv.slice(2);
+  const ti = args.indexOf('--tol');
+  const tol = ti >= 0 ? Number(args[ti + 1]) : NaN;
+  const files = args.filter((_, i) => i !== ti && i !== ti + 1);
+  if (files.length !== 2 || !(tol >= 0)) {
+    console.error('usage: node compare_positions.mjs A.f32|A.obj B.f32|B.obj --tol T');
+    return 2;
+  }
+  const [a, b] = await Promise.all(files.map(load));
+  const ab = maxNearest(a, b, tol);
+  const ba = maxNearest(b, a, tol);
+  const out = {
+    a: files[0],
+    b: files[1],
+    a_points: a.length / 3,
+    b_points: b.length / 3,
+    tol,
+    max_error_a_to_b: ab.worst === Infinity ? 'none within tol' : ab.worst,
+    max_error_b_to_a: ba.worst === Infinity ? 'none within tol' : ba.worst,
+    max_axis_error: ab.axis.map((e, k) => Math.max(e, ba.axis[k])),
+  };
+  out.ok = out.a_points === out.b_points && ab.worst <= tol && ba.worst <= tol;
+  console.log(JSON.stringify(out));
+  return out.ok ? 0 : 1;
+}
+
+process.exitCode = await main();
