@@ -1,8 +1,11 @@
 /* platform.c - monotonic clock, physical memory and peak RSS queries for the CLI (Linux/POSIX). */
 #include "platform.h"
 
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
@@ -65,4 +68,55 @@ const char *platform_format_bytes(size_t bytes, char *buf, size_t len)
     else
         snprintf(buf, len, "%.1f %s", v, unit[u]);
     return buf;
+}
+
+int platform_is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+int platform_is_file(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+int platform_make_dirs(const char *path, int parent_only)
+{
+    size_t n = strlen(path);
+    char *p = malloc(n + 1);
+    if (!p) {
+        errno = ENOMEM;
+        return -1;
+    }
+    memcpy(p, path, n + 1);
+    if (parent_only) {
+        char *slash = strrchr(p, '/');
+        if (!slash) {
+            free(p);
+            return 0;
+        }
+        *slash = 0;
+    }
+    int rc = 0;
+    if (!p[0]) {
+        free(p);
+        return 0;
+    }
+    for (char *q = p + 1;; q++) {
+        if (*q == '/' || *q == 0) {
+            char save = *q;
+            *q = 0;
+            if (p[0] && !platform_is_dir(p) && mkdir(p, 0777) != 0 && errno != EEXIST) {
+                rc = -1;
+                break;
+            }
+            *q = save;
+            if (!save)
+                break;
+        }
+    }
+    free(p);
+    return rc;
 }

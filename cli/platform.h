@@ -17,6 +17,16 @@ size_t platform_peak_rss(void);
 /** Online processors (at least 1). */
 int platform_cores(void);
 
+/** Creates the directories of path that do not exist (mkdir -p, mode 0777
+ *  less umask); with parent_only, only those of its parent. 0, or -1 with errno. */
+int platform_make_dirs(const char *path, int parent_only);
+
+/** 1 if path exists (stat succeeds) and is a directory. */
+int platform_is_dir(const char *path);
+
+/** 1 if path exists and is a regular file. */
+int platform_is_file(const char *path);
+
 /** Formats bytes as "512 B", "12.3 MiB", "2.0 GiB" into buf. */
 const char *platform_format_bytes(size_t bytes, char *buf, size_t len);
 

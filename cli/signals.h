@@ -1,4 +1,4 @@
-/* signals.h - SIGINT/SIGTERM/SIGHUP handling: remove unfinished output temporaries, then die by the signal. */
+/* signals.h - SIGINT/SIGTERM/SIGHUP/SIGPIPE handling: remove unfinished output temporaries, then die by the signal. */
 #ifndef JETMESH_CLI_SIGNALS_H
 #define JETMESH_CLI_SIGNALS_H
 

@@ -1,0 +1,456 @@
+/* convert.c - `jetmesh convert`: plans outputs, then reads, meshes and writes each frame with one context. */
+#include "convert.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "../formats/reader.h"
+#include "../formats/writer.h"
+#include "../lib/jetmesh.h"
+#include "options.h"
+#include "platform.h"
+#include "progress.h"
+#include "sequence.h"
+#include "signals.h"
+#include "stats.h"
+
+/* One frame to convert. */
+typedef struct job {
+    const seq_frame *in;
+    char *out;
+} job;
+
+typedef struct run {
+    convert_options *o;
+    seq_list frames;
+    job *jobs;
+    size_t njobs;
+    jm_context *ctx;
+    stats_log log;
+    progress bar;
+    size_t failed;
+    int worst; /* exit status so far */
+} run;
+
+static int is_gltf_family(int f)
+{
+    return f == JMF_OUT_GLTF || f == JMF_OUT_GLB;
+}
+
+/* Decides every frame's output path and the output format. */
+static int plan_outputs(run *r)
+{
+    convert_options *o = r->o;
+    size_t n = r->frames.count;
+    r->jobs = calloc(n, sizeof *r->jobs);
+    if (!r->jobs) {
+        fprintf(stderr, "jetmesh convert: out of memory\n");
+        return EXIT_RESOURCE;
+    }
+    r->njobs = n;
+    seq_kind k = seq_kind_of(o->output);
+    if (k == SEQ_INVALID)
+        return options_usage_error("convert", "'%s' has more than one frame placeholder ({} or %%d)", o->output);
+    size_t len = strlen(o->output);
+    int as_dir = 0;
+    if (k == SEQ_PLAIN) {
+        as_dir = platform_is_dir(o->output) || (len > 0 && o->output[len - 1] == '/');
+        if (!as_dir && n > 1) {
+            struct stat st;
+            if (stat(o->output, &st) == 0)
+                return options_usage_error("convert",
+                                           "%s exists and is not a directory: with several "
+                                           "frames, OUTPUT is a directory or a template with {}",
+                                           o->output);
+            as_dir = 1;
+        }
+    }
+    if (as_dir && !o->format_given)
+        o->write.format = JMF_OUT_GLB; /* documented default for a directory */
+    const char *ext = jmf_output_format_name(o->write.format);
+    for (size_t i = 0; i < n; i++) {
+        const seq_frame *f = &r->frames.items[i];
+        char *out;
+        if (k != SEQ_PLAIN)
+            out = seq_substitute(o->output, f->index, f->digits);
+        else if (as_dir)
+            out = seq_in_directory(o->output, f->path, ext);
+        else
+            out = strdup(o->output);
+        if (!out) {
+            fprintf(stderr, "jetmesh convert: out of memory\n");
+            return EXIT_RESOURCE;
+        }
+        r->jobs[i].in = f;
+        r->jobs[i].out = out;
+    }
+    /* the format, from --format or the (first) output's extension */
+    int draco = 0;
+    int fmt = jmf_output_format_for(r->jobs[0].out, &o->write, &draco);
+    if (fmt < 0)
+        return options_usage_error("convert",
+                                   "cannot tell the output format of '%s': use --format "
+                                   "obj|gltf|glb|drc|ply|vtk",
+                                   r->jobs[0].out);
+    for (size_t i = 1; i < n; i++) {
+        int d2 = 0;
+        if (jmf_output_format_for(r->jobs[i].out, &o->write, &d2) != fmt)
+            return options_usage_error("convert", "'%s' and '%s' name different output formats",
+                                       r->jobs[0].out, r->jobs[i].out);
+    }
+    o->write.format = (jmf_output_format)fmt;
+    if (draco)
+        o->write.draco = 1;
+    if (o->write.draco && !is_gltf_family(fmt))
+        return options_usage_error("convert",
+                                   "--draco applies to glTF/GLB output, not %s (.drc is Draco already)",
+                                   jmf_output_format_name((jmf_output_format)fmt));
+    if (o->write.embed && fmt != JMF_OUT_GLTF)
+        return options_usage_error("convert", "--embed applies to .gltf output, not %s",
+                                   jmf_output_format_name((jmf_output_format)fmt));
+    return EXIT_ALL_OK;
+}
+
+static int cmp_str_ptr(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Refuses two frames writing one file, and any output that is an input. */
+static int check_outputs(run *r)
+{
+    size_t n = r->njobs;
+    char **outs = malloc(n * sizeof *outs);
+    if (!outs) {
+        fprintf(stderr, "jetmesh convert: out of memory\n");
+        return EXIT_RESOURCE;
+    }
+    for (size_t i = 0; i < n; i++)
+        outs[i] = r->jobs[i].out;
+    qsort(outs, n, sizeof *outs, cmp_str_ptr);
+    for (size_t i = 1; i < n; i++) {
+        if (strcmp(outs[i - 1], outs[i]) == 0) {
+            int rc = options_usage_error("convert",
+                                         "two frames would write %s: use a template with {} in -o",
+                                         outs[i]);
+            free(outs);
+            return rc;
+        }
+    }
+    free(outs);
+
+    struct stat *ins = malloc(n * sizeof *ins);
+    char *have = calloc(n, 1);
+    if (!ins || !have) {
+        free(ins);
+        free(have);
+        fprintf(stderr, "jetmesh convert: out of memory\n");
+        return EXIT_RESOURCE;
+    }
+    for (size_t i = 0; i < n; i++)
+        have[i] = stat(r->jobs[i].in->path, &ins[i]) == 0;
+    const char *extra[2] = {r->o->stats_path, r->o->stats_svg};
+    int rc = EXIT_ALL_OK;
+    for (size_t i = 0; i < n + 2 && rc == EXIT_ALL_OK; i++) {
+        const char *out = i < n ? r->jobs[i].out : extra[i - n];
+        struct stat st;
+        if (!out || stat(out, &st) != 0)
+            continue;
+        for (size_t j = 0; j < n; j++) {
+            if (have[j] && ins[j].st_dev == st.st_dev && ins[j].st_ino == st.st_ino) {
+                rc = options_usage_error("convert", "refusing to overwrite the input file %s (with %s)",
+                                         r->jobs[j].in->path, out);
+                break;
+            }
+        }
+    }
+    free(ins);
+    free(have);
+    return rc;
+}
+
+static const char *field_name(jm_field f)
+{
+    return f == JM_FIELD_SPH ? "sph" : "metasphere";
+}
+
+static const char *uv_name(jm_uv_mode m)
+{
+    switch (m) {
+    case JM_UV_PLANAR: return "planar";
+    case JM_UV_SPHERICAL: return "spherical";
+    case JM_UV_NONE: return "none";
+    default: return "box";
+    }
+}
+
+static void print_params(const run *r)
+{
+    jm_params p;
+    char mem[32];
+    jm_context_get_params(r->ctx, &p);
+    printf("jetmesh %s: %zu frames; radius %g, cube size %g r, field %s, method %s, threshold %g, ",
+           jm_version(), r->njobs, (double)p.radius, (double)p.cube_size, field_name(p.field),
+           p.method == JM_METHOD_MC ? "mc" : "mt", (double)p.threshold);
+    if (p.field == JM_FIELD_SPH)
+        printf("smoothing length %g r, ", (double)p.smoothing_length);
+    else
+        printf("link distance %g r, ", (double)p.link_distance);
+    printf("threads %d, uv %s, normals %s, max memory %s; output %s%s\n",
+           p.threads ? p.threads : platform_cores(), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
+           p.max_bytes ? platform_format_bytes(p.max_bytes, mem, sizeof mem) : "no limit",
+           jmf_output_format_name(r->o->write.format), r->o->write.draco ? " with Draco" : "");
+    fflush(stdout);
+}
+
+/* Records a failed frame: message on stderr, status. */
+static void frame_failed(run *r, stats_record *rec, const char *msg, int status)
+{
+    stats_fail(rec, msg);
+    progress_clear(&r->bar);
+    fprintf(stderr, "jetmesh: frame %ld: %s\n", rec->index, msg);
+    fflush(stderr);
+    r->failed++;
+    if (status > r->worst)
+        r->worst = status;
+}
+
+static int read_status(jmf_status s)
+{
+    return s == JMF_E_NOMEM || s == JMF_E_LIMIT ? EXIT_RESOURCE : EXIT_SOME_FAILED;
+}
+
+/* Converts one frame; returns 0 when it went well (or was skipped). */
+static int convert_one(run *r, const job *jb)
+{
+    convert_options *o = r->o;
+    const seq_frame *f = jb->in;
+    char err[1024], msg[1400], b1[32], b2[32];
+    stats_record *rec = stats_add(&r->log, f->index, f->path, jb->out);
+    if (!rec) {
+        fprintf(stderr, "jetmesh: out of memory\n");
+        r->worst = EXIT_RESOURCE;
+        r->failed++;
+        return -1;
+    }
+    if (o->resume && platform_is_file(jb->out)) {
+        rec->status = STATS_SKIPPED;
+        if (!o->quiet) {
+            progress_clear(&r->bar);
+            printf("frame %ld %s: skipped, %s exists (--resume)\n", f->index, f->path, jb->out);
+            fflush(stdout);
+        }
+        return 0;
+    }
+    double t0 = platform_now_ms();
+    jmf_frame fr;
+    memset(&fr, 0, sizeof fr);
+    jmf_status rs = jmf_read_particles(f->path, &o->read, &fr, err, sizeof err);
+    double t1 = platform_now_ms();
+    rec->ms_read = t1 - t0;
+    if (rs != JMF_OK) {
+        if (rs == JMF_E_LIMIT)
+            snprintf(msg, sizeof msg, "%s (over --max-memory %s: raise --max-memory)", err,
+                     platform_format_bytes(o->max_memory, b1, sizeof b1));
+        else
+            snprintf(msg, sizeof msg, "%s", err);
+        rec->ms_total = rec->ms_read;
+        rec->peak_rss_bytes = platform_peak_rss();
+        frame_failed(r, rec, msg, read_status(rs));
+        return -1;
+    }
+    rec->particles = fr.count;
+    rec->dropped = fr.dropped;
+    jm_particles parts = {fr.xyz, fr.count, 0, fr.ids};
+    jm_mesh mesh;
+    jm_stats st;
+    memset(&mesh, 0, sizeof mesh);
+    memset(&st, 0, sizeof st);
+    jm_status ms = jm_mesh_particles(r->ctx, &parts, &mesh, &st);
+    double t2 = platform_now_ms();
+    if (ms != JM_OK) {
+        int status = EXIT_RESOURCE;
+        size_t est = 0;
+        if (ms == JM_E_TOO_LARGE && jm_estimate_bytes(r->ctx, &parts, &est) == JM_OK &&
+            o->max_memory && est > o->max_memory)
+            snprintf(msg, sizeof msg,
+                     "%s: %zu particles need about %s of working memory, over the limit of %s: "
+                     "raise --max-memory",
+                     f->path, fr.count, platform_format_bytes(est, b1, sizeof b1),
+                     platform_format_bytes(o->max_memory, b2, sizeof b2));
+        else if (ms == JM_E_INVALID_PARTICLE) {
+            snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
+                     jm_status_message(ms));
+            status = EXIT_SOME_FAILED;
+        } else {
+            snprintf(msg, sizeof msg, "%s: %s", f->path, jm_status_message(ms));
+            if (ms == JM_E_INVALID_ARGUMENT)
+                status = EXIT_SOME_FAILED;
+        }
+        jmf_frame_free(&fr);
+        rec->ms_field = st.ms_prepare + st.ms_field;
+        rec->ms_total = t2 - t0;
+        rec->peak_rss_bytes = platform_peak_rss();
+        rec->lib_peak_bytes = st.peak_bytes;
+        frame_failed(r, rec, msg, status);
+        return -1;
+    }
+    jmf_frame_free(&fr); /* the library keeps no pointer to the particles */
+    rec->vertices = mesh.vertex_count;
+    rec->triangles = mesh.triangle_count;
+    rec->ms_field = st.ms_prepare + st.ms_field;
+    rec->ms_extract = st.ms_extract;
+    rec->ms_attributes = st.ms_attributes;
+    rec->lib_peak_bytes = st.peak_bytes;
+
+    size_t bytes = 0;
+    jmf_status ws;
+    double t3 = platform_now_ms();
+    if (platform_make_dirs(jb->out, 1) != 0) {
+        snprintf(err, sizeof err, "%s: cannot create its directory: %s", jb->out, strerror(errno));
+        ws = JMF_E_IO;
+    } else {
+        ws = jmf_write_mesh(jb->out, &mesh, &o->write, &bytes, err, sizeof err);
+    }
+    double t4 = platform_now_ms();
+    rec->ms_write = t4 - t3;
+    rec->ms_total = t4 - t0;
+    rec->peak_rss_bytes = platform_peak_rss();
+    if (ws != JMF_OK) {
+        frame_failed(r, rec, err, ws == JMF_E_NOMEM ? EXIT_RESOURCE : EXIT_SOME_FAILED);
+        return -1;
+    }
+    rec->bytes = bytes;
+    if (!o->quiet) {
+        progress_clear(&r->bar);
+        printf("frame %ld %s: %zu particles", f->index, f->path, rec->particles);
+        if (rec->dropped)
+            printf(" (%zu dropped)", rec->dropped);
+        printf(", %zu vertices, %zu triangles, %.2f ms -> %s\n", rec->vertices, rec->triangles,
+               rec->ms_total, jb->out);
+        if (o->verbose)
+            printf("  read %.2f ms, field %.2f ms, extract %.2f ms, attributes %.2f ms, write %.2f ms; "
+                   "%zu isolated, %zu blocks, %zu cells, %d threads, library peak %s, "
+                   "process peak %s, %zu bytes written\n",
+                   rec->ms_read, rec->ms_field, rec->ms_extract, rec->ms_attributes, rec->ms_write,
+                   st.isolated, st.blocks, st.cells, st.threads,
+                   platform_format_bytes(st.peak_bytes, b1, sizeof b1),
+                   platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), bytes);
+        fflush(stdout);
+    }
+    return 0;
+}
+
+static void write_reports(run *r, double wall_ms)
+{
+    stats_summary sum;
+    char err[1024];
+    stats_summarize(&r->log, wall_ms, &sum);
+    if (r->o->stats_path && stats_write(r->o->stats_path, &r->log, &sum, err, sizeof err) != 0) {
+        fprintf(stderr, "jetmesh: cannot write the statistics: %s\n", err);
+        if (r->worst < EXIT_SOME_FAILED)
+            r->worst = EXIT_SOME_FAILED;
+    }
+    if (r->o->stats_svg && stats_write_svg(r->o->stats_svg, &r->log, &sum, err, sizeof err) != 0) {
+        fprintf(stderr, "jetmesh: cannot write the chart: %s\n", err);
+        if (r->worst < EXIT_SOME_FAILED)
+            r->worst = EXIT_SOME_FAILED;
+    }
+    if (!r->o->quiet) {
+        printf("converted %zu of %zu frames (%zu failed, %zu skipped) in %.2f s, %.1f frames/s\n",
+               sum.ok, r->njobs, sum.failed, sum.skipped, sum.wall_seconds, sum.frames_per_second);
+        fflush(stdout);
+    }
+}
+
+static void list_failures(const run *r)
+{
+    if (r->failed == 0)
+        return;
+    if (!r->o->keep_going) {
+        if (r->log.count < r->njobs)
+            fprintf(stderr,
+                    "jetmesh: stopped at the first failure; %zu frames not converted "
+                    "(--keep-going converts the others)\n",
+                    r->njobs - r->log.count);
+        return;
+    }
+    fprintf(stderr, "jetmesh: %zu of %zu frames failed:\n", r->failed, r->njobs);
+    for (size_t i = 0; i < r->log.count; i++) {
+        const stats_record *rec = &r->log.items[i];
+        if (rec->status == STATS_FAILED)
+            fprintf(stderr, "  frame %ld: %s\n", rec->index, rec->error ? rec->error : "failed");
+    }
+}
+
+static void run_free(run *r)
+{
+    for (size_t i = 0; i < r->njobs; i++)
+        free(r->jobs[i].out);
+    free(r->jobs);
+    seq_list_free(&r->frames);
+    stats_free(&r->log);
+    jm_context_free(r->ctx);
+}
+
+int cmd_convert(int argc, char **argv)
+{
+    convert_options o;
+    int rc = options_parse_convert(argc, argv, &o);
+    if (rc == OPTIONS_DONE)
+        return EXIT_ALL_OK;
+    if (rc != OPTIONS_RUN)
+        return EXIT_USAGE;
+    if (o.threshold_given && o.params.threshold == 0.0f && o.params.field == JM_FIELD_SPH)
+        fprintf(stderr, "jetmesh convert: warning: --threshold 0 means the default of the field "
+                        "(0.6 for sph)\n");
+
+    run r;
+    memset(&r, 0, sizeof r);
+    r.o = &o;
+    double start = platform_now_ms();
+    char err[1024];
+    if (seq_expand(o.inputs, o.ninputs, &o.frames, &r.frames, err, sizeof err) != 0) {
+        rc = options_usage_error("convert", "%s", err);
+        goto done;
+    }
+    if (r.frames.count == 0) {
+        rc = options_usage_error("convert", "--frames selects none of the input frames");
+        goto done;
+    }
+    if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
+        goto done;
+
+    jm_status cs = jm_context_create(&o.params, &r.ctx);
+    if (cs != JM_OK) {
+        if (cs == JM_E_INVALID_ARGUMENT)
+            rc = options_usage_error("convert", "invalid meshing parameters: %s",
+                                     jm_status_message(cs));
+        else {
+            fprintf(stderr, "jetmesh convert: cannot create the meshing context: %s\n",
+                    jm_status_message(cs));
+            rc = EXIT_RESOURCE;
+        }
+        goto done;
+    }
+    signals_install_cleanup();
+    if (o.verbose)
+        print_params(&r);
+    progress_init(&r.bar, r.njobs, !o.quiet);
+    for (size_t i = 0; i < r.njobs; i++) {
+        int ok = convert_one(&r, &r.jobs[i]) == 0;
+        progress_update(&r.bar, i + 1);
+        if (!ok && !o.keep_going)
+            break;
+    }
+    progress_finish(&r.bar);
+    list_failures(&r);
+    write_reports(&r, platform_now_ms() - start);
+    rc = r.worst ? r.worst : (r.failed ? EXIT_SOME_FAILED : EXIT_ALL_OK);
+done:
+    run_free(&r);
+    return rc;
+}
