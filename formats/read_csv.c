@@ -1,0 +1,276 @@
+/* read_csv.c - reads particles from delimited text (CSV/TSV/space separated), header optional, x/y/z by name or position. */
+#include "readbuf.h"
+
+/*
+ * Rules:
+ *  - Lines end in LF or CRLF. Blank lines and lines whose first non-blank
+ *    character is '#' are skipped. A UTF-8 byte order mark is skipped.
+ *  - The separator is chosen from the first content line: the most frequent
+ *    of ',' ';' TAB (ties in that order); with none of them, runs of spaces
+ *    and tabs separate fields. Fields are trimmed of blanks and of one pair of
+ *    enclosing double quotes (quoted separators are not supported). Decimal
+ *    commas are not supported.
+ *  - The first content line is a header when none of its fields is a number.
+ *    Columns are found by name, case-insensitively:
+ *      x/y/z exactly, or a prefix "p", "pos", "position", "point", "points",
+ *      "coord", "coords" followed by an optional '_', '.', ':', '-' or ' '
+ *      and x/y/z or 0/1/2: "px", "pos_x", "Position.X", "Points:0" (ParaView).
+ *    Exact names win over prefixed ones. An "id" (or "particle_id") column
+ *    fills the ids. When the header names none of x, y, z, the first three
+ *    columns (other than id) that are numeric in the first data row are used;
+ *    naming only some of them is an error. Without a header, the first three
+ *    numeric columns of the first row are used.
+ *  - Every row must have as many fields as the header (or the first row);
+ *    the used columns must be numbers (nan/inf parse, then the NaN policy
+ *    applies). Columns that are not used may hold anything.
+ */
+
+typedef struct field {
+    const char *s;
+    size_t n;
+} field;
+
+typedef struct splitter {
+    const char *p, *end;
+    char sep; /* 0: runs of blanks */
+    int done;
+} splitter;
+
+static int is_blank(char c) { return c == ' ' || c == '\t'; }
+
+static field trim(const char *s, size_t n, char sep)
+{
+    field f;
+    while (n > 0 && (s[0] == ' ' || (sep != '\t' && s[0] == '\t'))) { s++; n--; }
+    while (n > 0 && (s[n - 1] == ' ' || (sep != '\t' && s[n - 1] == '\t'))) n--;
+    if (n >= 2 && s[0] == '"' && s[n - 1] == '"') { s++; n -= 2; }
+    f.s = s;
+    f.n = n;
+    return f;
+}
+
+/* Next field of the line; returns 0 when there are no more. */
+static int next_field(splitter *sp, field *f)
+{
+    const char *q;
+    if (sp->done) return 0;
+    if (sp->sep == 0) {
+        while (sp->p < sp->end && is_blank(*sp->p)) sp->p++;
+        if (sp->p == sp->end) { sp->done = 1; return 0; }
+        q = sp->p;
+        while (q < sp->end && !is_blank(*q)) q++;
+        f->s = sp->p;
+        f->n = (size_t)(q - sp->p);
+        sp->p = q;
+        return 1;
+    }
+    q = memchr(sp->p, sp->sep, (size_t)(sp->end - sp->p));
+    if (!q) {
+        *f = trim(sp->p, (size_t)(sp->end - sp->p), sp->sep);
+        sp->done = 1;
+        return 1;
+    }
+    *f = trim(sp->p, (size_t)(q - sp->p), sp->sep);
+    sp->p = q + 1;
+    return 1;
+}
+
+static void split_init(splitter *sp, const char *s, size_t n, char sep)
+{
+    sp->p = s;
+    sp->end = s + n;
+    sp->sep = sep;
+    sp->done = 0;
+}
+
+/* Which axis a header name means: 0..2, or -1; *exact says whether it was a bare x/y/z. */
+static int axis_of(field f, int *exact)
+{
+    static const char *const prefixes[] = { "position", "points", "point", "coords", "coord", "pos", "p" };
+    size_t i;
+    *exact = 0;
+    if (f.n == 1) {
+        char c = (char)(f.s[0] | 0x20);
+        if (c >= 'x' && c <= 'z') { *exact = 1; return c - 'x'; }
+        return -1;
+    }
+    for (i = 0; i < sizeof prefixes / sizeof prefixes[0]; i++) {
+        size_t k = strlen(prefixes[i]), rest;
+        const char *r;
+        char c;
+        if (f.n <= k || !jmr_ieq(f.s, k, prefixes[i])) continue;
+        r = f.s + k;
+        rest = f.n - k;
+        if (rest == 2 && (r[0] == '_' || r[0] == '.' || r[0] == ':' || r[0] == '-' || r[0] == ' ')) {
+            r++;
+            rest--;
+        }
+        if (rest != 1) continue;
+        c = (char)(r[0] | 0x20);
+        if (c >= 'x' && c <= 'z') return c - 'x';
+        if (r[0] >= '0' && r[0] <= '2') return r[0] - '0';
+    }
+    return -1;
+}
+
+static int is_number(field f)
+{
+    double d;
+    return jmr_parse_double(f.s, f.n, &d);
+}
+
+/* Shows at most 40 bytes of a field in a message. */
+#define SHOW(f) (int)((f).n > 40 ? 40 : (f).n), (f).s
+
+static const char *sep_name(char sep)
+{
+    switch (sep) {
+    case ',': return "comma";
+    case ';': return "semicolon";
+    case '\t': return "tab";
+    default: return "blank";
+    }
+}
+
+jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
+{
+    const char *text = (const char *)data, *end = text + size, *p = text;
+    size_t line = 0, ncols = 0, header_line = 0, k;
+    long col[4] = { -1, -1, -1, -1 }; /* x, y, z, id */
+    int have_sep = 0, have_header = 0, have_cols = 0;
+    char sep = 0;
+    jmf_status st;
+
+    if (size >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0) p += 3;
+    while (p < end) {
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        const char *le = nl ? nl : end, *q;
+        size_t n, nf;
+        splitter sp;
+        field f, val[4];
+        line++;
+        n = (size_t)(le - p);
+        if (n > 0 && p[n - 1] == '\r') n--;
+        q = p;
+        p = nl ? nl + 1 : end;
+        {
+            size_t i = 0;
+            while (i < n && is_blank(q[i])) i++;
+            if (i == n || q[i] == '#') continue;
+            for (i = 0; i < n; i++) {
+                unsigned char c = (unsigned char)q[i];
+                if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
+                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                    "unexpected control byte 0x%02x in column %zu; expected text", c, i + 1);
+            }
+        }
+        if (!have_sep) {
+            size_t cnt[3] = { 0, 0, 0 }, i;
+            static const char seps[3] = { ',', ';', '\t' };
+            for (i = 0; i < n; i++)
+                for (k = 0; k < 3; k++)
+                    if (q[i] == seps[k]) cnt[k]++;
+            sep = 0;
+            for (k = 0, i = 0; k < 3; k++)
+                if (cnt[k] > i) { i = cnt[k]; sep = seps[k]; }
+            have_sep = 1;
+
+            /* header? none of the fields is a number */
+            split_init(&sp, q, n, sep);
+            nf = 0;
+            have_header = 1;
+            while (next_field(&sp, &f)) {
+                nf++;
+                if (is_number(f)) have_header = 0;
+            }
+            if (have_header) {
+                int best[3] = { 0, 0, 0 }, exact, named = 0;
+                ncols = nf;
+                header_line = line;
+                split_init(&sp, q, n, sep);
+                for (k = 0; next_field(&sp, &f); k++) {
+                    int a = axis_of(f, &exact);
+                    if (a >= 0 && (col[a] < 0 || (exact && !best[a]))) {
+                        col[a] = (long)k;
+                        best[a] = exact;
+                    }
+                    if (col[3] < 0 && (jmr_ieq(f.s, f.n, "id") || jmr_ieq(f.s, f.n, "particle_id")))
+                        col[3] = (long)k;
+                }
+                for (k = 0; k < 3; k++) named += col[k] >= 0;
+                if (named == 0 && nf - (col[3] >= 0) < 3)
+                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                    "header has %zu %s-separated column(s) and no x, y, z names; expected "
+                                    "at least 3 columns",
+                                    nf, sep_name(sep));
+                if (named == 3) {
+                    have_cols = 1;
+                } else if (named > 0) {
+                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                    "header names only some of the x, y, z columns (missing %s); expected "
+                                    "all three or none",
+                                    col[0] < 0 ? "x" : col[1] < 0 ? "y" : "z");
+                }
+                if (col[3] >= 0) {
+                    st = jmr_points_want_ids(pts, ctx);
+                    if (st) return st;
+                }
+                continue;
+            }
+            ncols = nf;
+        }
+        if (!have_cols) {
+            /* first data row: pick the first three numeric columns (not id) */
+            int got = 0;
+            split_init(&sp, q, n, sep);
+            for (k = 0; got < 3 && next_field(&sp, &f); k++)
+                if ((long)k != col[3] && is_number(f)) col[got++] = (long)k;
+            if (got < 3)
+                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                "expected at least 3 numeric %s-separated columns for x, y, z, found %d",
+                                sep_name(sep), got);
+            have_cols = 1;
+        }
+        /* a data row */
+        split_init(&sp, q, n, sep);
+        nf = 0;
+        memset(val, 0, sizeof val);
+        while (next_field(&sp, &f)) {
+            for (k = 0; k < 4; k++)
+                if (col[k] == (long)nf) val[k] = f;
+            nf++;
+        }
+        if (nf != ncols) {
+            if (header_line)
+                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                "expected %zu %s-separated fields as in the header on line %zu, found %zu",
+                                ncols, sep_name(sep), header_line, nf);
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                            "expected %zu %s-separated fields as in the first row, found %zu", ncols,
+                            sep_name(sep), nf);
+        }
+        {
+            double v[3];
+            uint32_t id = 0;
+            for (k = 0; k < 3; k++)
+                if (!jmr_parse_double(val[k].s, val[k].n, &v[k]))
+                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                    "column %ld (%c): expected a number, found '%.*s'", col[k] + 1,
+                                    (char)('x' + k), SHOW(val[k]));
+            if (col[3] >= 0) {
+                double d;
+                if (!jmr_parse_double(val[3].s, val[3].n, &d))
+                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                    "column %ld (id): expected an integer id, found '%.*s'", col[3] + 1,
+                                    SHOW(val[3]));
+                if (d >= 0 && d <= 4294967295.0 && d == (double)(uint32_t)d)
+                    id = (uint32_t)d;
+                else
+                    pts->ids_bad = 1;
+            }
+            st = jmr_points_add(pts, ctx, v[0], v[1], v[2], id, jmr_line(line));
+            if (st) return st;
+        }
+    }
+    return JMF_OK;
+}
