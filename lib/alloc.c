@@ -1,0 +1,66 @@
+/* alloc.c - counted heap allocation: every byte a context holds is tracked for peak and limits. */
+#include "internal.h"
+#include <stdlib.h>
+#include <stdatomic.h>
+
+/* The counters are updated from worker threads, hence atomics. */
+static void count_add(jm_mem *a, size_t bytes)
+{
+    size_t now = atomic_fetch_add(&a->current, bytes) + bytes;
+    size_t peak = atomic_load(&a->peak);
+    while (now > peak && !atomic_compare_exchange_weak(&a->peak, &peak, now)) {
+    }
+}
+
+static void count_sub(jm_mem *a, size_t bytes)
+{
+    atomic_fetch_sub(&a->current, bytes);
+}
+
+void jm_mem_add(jm_mem *m, size_t bytes) { count_add(m, bytes); }
+void jm_mem_sub(jm_mem *m, size_t bytes) { count_sub(m, bytes); }
+
+int jm_mul_size(size_t a, size_t b, size_t *out)
+{
+    if (a != 0 && b > SIZE_MAX / a) return 0;
+    *out = a * b;
+    return 1;
+}
+
+void *jm_alloc(jm_mem *m, size_t bytes)
+{
+    if (bytes == 0) bytes = 1;
+    void *p = malloc(bytes);
+    if (p && m) count_add(m, bytes);
+    return p;
+}
+
+void *jm_calloc(jm_mem *m, size_t n, size_t size)
+{
+    size_t bytes;
+    if (!jm_mul_size(n, size, &bytes)) return NULL;
+    if (bytes == 0) bytes = 1;
+    void *p = calloc(1, bytes);
+    if (p && m) count_add(m, bytes);
+    return p;
+}
+
+void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
+{
+    if (new_bytes == 0) new_bytes = 1;
+    void *q = realloc(p, new_bytes);
+    if (!q) return NULL;
+    if (m) {
+        if (!p) old_bytes = 0;
+        if (new_bytes > old_bytes) count_add(m, new_bytes - old_bytes);
+        else count_sub(m, old_bytes - new_bytes);
+    }
+    return q;
+}
+
+void jm_free(jm_mem *m, void *p, size_t bytes)
+{
+    if (!p) return;
+    free(p);
+    if (m) count_sub(m, bytes == 0 ? 1 : bytes);
+}

@@ -1,0 +1,248 @@
+/* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
+#include "block.h"
+#include "tables.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Interpolation parameters are kept this far from the edge ends, so no two
+ * vertices meet at a lattice node (no zero-area triangles). */
+#define JM_T_MIN 0.01f
+
+size_t jm_scratch_bytes(int B)
+{
+    size_t n = (size_t)B + 1, nn = n * n * n;
+    return nn * (sizeof(float) + 1 + 14 * sizeof(uint32_t)) + 3 * n * sizeof(float);
+}
+
+int jm_scratch_init(jm_scratch *s, int B)
+{
+    size_t n = (size_t)B + 1, nn = n * n * n;
+    memset(s, 0, sizeof *s);
+    s->B = B;
+    s->f = malloc(nn * sizeof *s->f);
+    s->in = malloc(nn);
+    s->vt = malloc(nn * 7 * sizeof *s->vt);
+    s->touched = malloc(nn * 7 * sizeof *s->touched);
+    s->x = malloc(3 * n * sizeof(float));
+    if (!s->f || !s->in || !s->vt || !s->touched || !s->x) { jm_scratch_free(s); return 0; }
+    s->y = s->x + n;
+    s->z = s->y + n;
+    memset(s->vt, 0xff, nn * 7 * sizeof *s->vt);
+    return 1;
+}
+
+void jm_scratch_free(jm_scratch *s)
+{
+    free(s->f);
+    free(s->in);
+    free(s->vt);
+    free(s->touched);
+    free(s->x);
+    free(s->hood.range);
+    memset(s, 0, sizeof *s);
+}
+
+void jm_bout_reset(jm_bout *o)
+{
+    o->nv = o->ni = o->np = o->nb = o->cells = 0;
+    o->t_field = o->t_extract = o->t_attr = 0;
+    o->failed = 0;
+}
+
+void jm_bout_free(jm_bout *o, jm_mem *mem)
+{
+    jm_free(mem, o->pos, o->capv * 3 * sizeof(float));
+    jm_free(mem, o->nrm, o->capv * 3 * sizeof(float));
+    jm_free(mem, o->uv, o->capv * 2 * sizeof(float));
+    jm_free(mem, o->tri, o->capt * sizeof(uint32_t));
+    jm_free(mem, o->pend, o->capp * 2 * sizeof(uint32_t));
+    jm_free(mem, o->bmap, o->capb * 2 * sizeof(uint32_t));
+    memset(o, 0, sizeof *o);
+}
+
+/* grows array *p of *cap elements of `width` bytes to hold `need` elements */
+static int grow(jm_mem *mem, void **p, size_t *cap, size_t need, size_t width)
+{
+    if (need <= *cap) return 1;
+    size_t nc = *cap ? *cap : 256;
+    while (nc < need) nc *= 2;
+    void *q = jm_realloc(mem, *p, *cap * width, nc * width);
+    if (!q) return 0;
+    *p = q;
+    *cap = nc;
+    return 1;
+}
+
+static int grow_vertices(jm_mem *mem, jm_bout *o)
+{
+    if (o->nv < o->capv) return 1;
+    size_t nc = o->capv ? o->capv * 2 : 256;
+    float *p = jm_realloc(mem, o->pos, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+    if (p) o->pos = p;
+    float *n = p ? jm_realloc(mem, o->nrm, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float)) : NULL;
+    if (n) o->nrm = n;
+    float *u = n ? jm_realloc(mem, o->uv, o->capv * 2 * sizeof(float), nc * 2 * sizeof(float)) : NULL;
+    if (u) o->uv = u;
+    if (!p || !n || !u) {
+        /* keep the accounting right: shrink back what did grow */
+        if (p) o->pos = jm_realloc(mem, o->pos, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        if (n) o->nrm = jm_realloc(mem, o->nrm, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        return 0;
+    }
+    o->capv = nc;
+    return 1;
+}
+
+/* The metasphere's crossing on edge a + t ab, where the linear estimate
+ * t0 is refined by a few regula falsi (Illinois) steps on the exact field:
+ * vertices then lie on the surface, not on the chord of the samples. */
+static float refine_root(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float a[3],
+                         const float ab[3], float fa, float fb, float t)
+{
+    float ta = 0.0f, tb = 1.0f;
+    for (int it = 0; it < 4; it++) {
+        float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
+        float f = jm_field_value(g, c, hood, p) - c->threshold;
+        if (f == 0.0f) return t;
+        if ((f > 0.0f) == (fa > 0.0f)) { ta = t; fa = f; fb *= 0.5f; }
+        else { tb = t; fb = f; fa *= 0.5f; }
+        t = ta + (tb - ta) * fa / (fa - fb);
+    }
+    return t;
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
+{
+    const jm_config *c = env->c;
+    const jm_grid *g = env->g;
+    const jm_block_set *bs = env->blocks;
+    jm_bout_reset(out);
+    const int B = s->B, n = B + 1;
+    const uint64_t key = bs->key[b];
+    const uint64_t mask = (uint64_t)JM_KEY_MAX - 1;
+    const int64_t rel[3] = {(int64_t)(key & mask), (int64_t)((key >> JM_KEY_BITS) & mask),
+                            (int64_t)(key >> (2 * JM_KEY_BITS))};
+    int64_t node0[3];
+    for (int a = 0; a < 3; a++) node0[a] = (rel[a] + bs->origin[a]) * B;
+    float *xs[3] = {s->x, s->y, s->z};
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < n; i++) xs[a][i] = (float)((double)(node0[a] + i) * (double)c->h);
+    const float lo[3] = {s->x[0], s->y[0], s->z[0]}, hi[3] = {s->x[B], s->y[B], s->z[B]};
+    out->cells = (size_t)B * B * B;
+
+    double t0 = jm_now_ms();
+    if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
+    if (s->hood.particles == 0) return;
+    jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f);
+    const float thr = c->threshold;
+    const size_t nn = (size_t)n * n * n;
+    size_t inside = 0;
+    for (size_t i = 0; i < nn; i++) {
+        s->in[i] = s->f[i] > thr;
+        inside += s->in[i];
+    }
+    double t1 = jm_now_ms();
+    out->t_field = t1 - t0;
+    if (inside == 0 || inside == nn) return;
+
+    const int refine = c->field == JM_FIELD_METASPHERE;
+    const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
+    const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
+    jm_mem *mem = env->mem;
+    const size_t sn = (size_t)n, sn2 = sn * sn;
+    size_t corner_off[8];
+    for (int k = 0; k < 8; k++) corner_off[k] = (k & 1) + ((k >> 1) & 1) * sn + ((k >> 2) & 1) * sn2;
+    size_t dir_off[7];
+    for (int d = 0; d < 7; d++) dir_off[d] = jm_dir[d][0] + jm_dir[d][1] * sn + jm_dir[d][2] * sn2;
+
+    for (int k = 0; k < B; k++)
+        for (int j = 0; j < B; j++) {
+            size_t row = ((size_t)k * sn + j) * sn;
+            for (int i = 0; i < B; i++) {
+                size_t nd = row + i;
+                unsigned cfg = 0;
+                for (int q = 0; q < 8; q++) cfg |= (unsigned)s->in[nd + corner_off[q]] << q;
+                if (cfg == 0 || cfg == 255) continue;
+                int nt = tab->ntri[cfg];
+                if (!grow(mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
+                    out->failed = 1;
+                    goto done;
+                }
+                const uint8_t *te = tab->edges[cfg];
+                for (int t = 0; t < 3 * nt; t++) {
+                    int e = te[t];
+                    int corner = jm_cube_edge_corner[e], dir = jm_cube_edge_dir[e];
+                    size_t na = nd + corner_off[corner];
+                    size_t slot = na * 7 + (size_t)dir;
+                    uint32_t ref = s->vt[slot];
+                    if (ref == UINT32_MAX) {
+                        int ni = i + (corner & 1), nj = j + ((corner >> 1) & 1), nk = k + ((corner >> 2) & 1);
+                        if (ni < B && nj < B && nk < B) {
+                            if (!grow_vertices(mem, out)) { out->failed = 1; goto done; }
+                            size_t nb = na + dir_off[dir];
+                            float fa = s->f[na], fb = s->f[nb];
+                            const int *dv = jm_dir[dir];
+                            const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
+                            const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
+                            float tt = (thr - fa) / (fb - fa);
+                            if (refine) tt = refine_root(g, c, &s->hood, a, ab, fa - thr, fb - thr, tt);
+                            tt = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+                            float *p = &out->pos[3 * out->nv];
+                            for (int q = 0; q < 3; q++) p[q] = a[q] + tt * ab[q];
+                            /* fallback normal: along the edge, from inside to outside */
+                            float sign = fa > thr ? 1.0f : -1.0f, inv = 1.0f / sqrtf((float)(dv[0] + dv[1] + dv[2]));
+                            float *nr = &out->nrm[3 * out->nv];
+                            for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
+                            ref = (uint32_t)out->nv++;
+                            if (ni == 0 || nj == 0 || nk == 0) {
+                                if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {
+                                    out->failed = 1;
+                                    goto done;
+                                }
+                                out->bmap[2 * out->nb] = (uint32_t)slot;
+                                out->bmap[2 * out->nb + 1] = ref;
+                                out->nb++;
+                            }
+                        } else {
+                            int o[3] = {ni == B, nj == B, nk == B};
+                            uint64_t okey = jm_key3(rel[0] + o[0], rel[1] + o[1], rel[2] + o[2]);
+                            uint32_t owner = jm_hashmap_get(&bs->map, okey);
+                            if (owner == UINT32_MAX) { out->failed = 2; goto done; }
+                            size_t onode = ((size_t)(nk - B * o[2]) * sn + (size_t)(nj - B * o[1])) * sn +
+                                           (size_t)(ni - B * o[0]);
+                            if (!grow(mem, (void **)&out->pend, &out->capp, out->np + 1, 2 * sizeof(uint32_t))) {
+                                out->failed = 1;
+                                goto done;
+                            }
+                            out->pend[2 * out->np] = owner;
+                            out->pend[2 * out->np + 1] = (uint32_t)(onode * 7 + (size_t)dir);
+                            ref = JM_PENDING | (uint32_t)out->np++;
+                        }
+                        s->vt[slot] = ref;
+                        s->touched[s->ntouched++] = (uint32_t)slot;
+                    }
+                    out->tri[out->ni++] = ref;
+                }
+            }
+        }
+done:
+    for (size_t t = 0; t < s->ntouched; t++) s->vt[s->touched[t]] = UINT32_MAX;
+    s->ntouched = 0;
+    double t2 = jm_now_ms();
+    out->t_extract = t2 - t1;
+    if (out->failed) return;
+    qsort(out->bmap, out->nb, 2 * sizeof(uint32_t), cmp_pair);
+    for (size_t v = 0; v < out->nv; v++) {
+        float *p = &out->pos[3 * v], *nr = &out->nrm[3 * v];
+        if (want_nrm) jm_field_normal(g, c, &s->hood, p, nr);
+        if (c->uv_mode != JM_UV_NONE) jm_uv(c, p, nr, &out->uv[2 * v]);
+    }
+    out->t_attr = jm_now_ms() - t2;
+}

@@ -1,0 +1,60 @@
+/* block.h - meshes one block of the lattice: sample, march, weld, normals, UVs. */
+#ifndef JETMESH_BLOCK_H
+#define JETMESH_BLOCK_H
+#include "field.h"
+
+/* What one block produced. Vertex refs in tri: an owned vertex's local index,
+ * or JM_PENDING | k for the k-th (owner block, owner slot) pair in pend. */
+#define JM_PENDING 0x80000000u
+typedef struct jm_bout {
+    float *pos, *nrm, *uv;
+    size_t nv, capv;
+    uint32_t *tri;
+    size_t ni, capt;          /* indices (3 per triangle) */
+    uint32_t *pend;           /* 2 per pending vertex */
+    size_t np, capp;
+    uint32_t *bmap;           /* 2 per owned vertex on a min face: slot, local index */
+    size_t nb, capb;
+    size_t cells;
+    double t_field, t_extract, t_attr; /* thread milliseconds */
+    int failed;               /* 1: allocation failed, 2: stitching impossible */
+} jm_bout;
+
+/* Scratch memory of one worker. */
+typedef struct jm_scratch {
+    int B;
+    float *f;                 /* (B+1)^3 node values */
+    uint8_t *in;              /* (B+1)^3 inside flags */
+    uint32_t *vt;             /* (B+1)^3 * 7 vertex refs */
+    uint32_t *touched;
+    size_t ntouched;
+    float *x, *y, *z;         /* node coordinates */
+    jm_hood hood;
+} jm_scratch;
+
+typedef struct jm_block_set {
+    size_t count;
+    uint64_t *key;            /* sorted block keys */
+    jm_hashmap map;           /* key -> index */
+    int64_t origin[3];        /* block coordinate of relative zero */
+} jm_block_set;
+
+typedef struct jm_block_env {
+    const jm_grid *g;
+    const jm_config *c;
+    const jm_block_set *blocks;
+    jm_mem *mem;
+} jm_block_env;
+
+int jm_scratch_init(jm_scratch *s, int B);
+size_t jm_scratch_bytes(int B); /* heap bytes of one scratch */
+void jm_scratch_free(jm_scratch *s);
+void jm_bout_reset(jm_bout *o);
+void jm_bout_free(jm_bout *o, jm_mem *mem);
+
+/* Meshes block index b into out (out reset first). */
+void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out);
+
+/* Texture coordinates of one vertex. */
+void jm_uv(const jm_config *c, const float p[3], const float n[3], float uv[2]);
+#endif

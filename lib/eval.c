@@ -1,0 +1,81 @@
+/* eval.c - brute-force evaluation of the implicit function and its gradient at one point. */
+#include "internal.h"
+#include <math.h>
+#include <string.h>
+
+static void load(const jm_particles *ps, size_t i, float p[3])
+{
+    size_t stride = ps->stride ? ps->stride : 3 * sizeof(float);
+    memcpy(p, (const char *)ps->xyz + i * stride, 3 * sizeof(float));
+}
+
+jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const float x[3], float *out_value,
+                        float out_gradient[3])
+{
+    if (!params || !ps || !x || !out_value || (ps->count && !ps->xyz)) return JM_E_INVALID_ARGUMENT;
+    jm_config c;
+    jm_status st = jm_config_resolve(params, &c, NULL);
+    if (st != JM_OK) return st;
+    size_t n = ps->count;
+    double grad[3] = {0, 0, 0};
+    double value;
+    if (c.field == JM_FIELD_SPH) {
+        const double inv = 1.0 / c.sph_h, R = c.support;
+        value = 0;
+        for (size_t j = 0; j < n; j++) {
+            float pj[3];
+            load(ps, j, pj);
+            double sum = 0;
+            for (size_t k = 0; k < n; k++) {
+                float pk[3];
+                load(ps, k, pk);
+                double d = sqrt((double)(pk[0] - pj[0]) * (pk[0] - pj[0]) + (double)(pk[1] - pj[1]) * (pk[1] - pj[1]) +
+                                (double)(pk[2] - pj[2]) * (pk[2] - pj[2]));
+                if (d < R) sum += jm_cubic_w((float)(d * inv));
+            }
+            double w[3] = {x[0] - pj[0], x[1] - pj[1], x[2] - pj[2]};
+            double d = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            if (d >= R) continue;
+            value += jm_cubic_w((float)(d * inv)) / sum;
+            if (d > 0)
+                for (int a = 0; a < 3; a++) grad[a] += jm_cubic_dw((float)(d * inv)) * inv / sum * w[a] / d;
+        }
+    } else {
+        const double r = c.r;
+        value = -INFINITY;
+        for (size_t i = 0; i < n; i++) {
+            float ci[3];
+            load(ps, i, ci);
+            double w[3] = {x[0] - ci[0], x[1] - ci[1], x[2] - ci[2]};
+            double d = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+            double v = 1.0 - d / r;
+            if (v > value) {
+                value = v;
+                for (int a = 0; a < 3; a++) grad[a] = d > 0 ? -w[a] / (d * r) : 0;
+            }
+            for (size_t j = 0; j < n; j++) {
+                if (j == i) continue;
+                float cj[3];
+                load(ps, j, cj);
+                double u[3] = {cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
+                double D = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+                if (!(D < c.link) || D == 0) continue;
+                for (int a = 0; a < 3; a++) u[a] /= D;
+                double s = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
+                if (s < 0 || s > 0.5 * D) continue; /* the other half belongs to j */
+                double rad[3] = {w[0] - s * u[0], w[1] - s * u[1], w[2] - s * u[2]};
+                double q = sqrt(rad[0] * rad[0] + rad[1] * rad[1] + rad[2] * rad[2]);
+                double nv = cos(s / r) - q / r;
+                if (nv > value) {
+                    value = nv;
+                    for (int a = 0; a < 3; a++) grad[a] = (-sin(s / r) * u[a] - (q > 0 ? rad[a] / q : 0)) / r;
+                }
+            }
+        }
+        if (n == 0) value = -1.0;
+    }
+    *out_value = (float)value;
+    if (out_gradient)
+        for (int a = 0; a < 3; a++) out_gradient[a] = (float)grad[a];
+    return JM_OK;
+}

@@ -1,0 +1,28 @@
+/* field.h - samples the implicit function on a block of lattice nodes and evaluates its gradient. */
+#ifndef JETMESH_FIELD_H
+#define JETMESH_FIELD_H
+#include "grid.h"
+
+/* The cells of the particle grid around one block, as a small dense array. */
+typedef struct jm_hood {
+    int64_t c0[3];      /* absolute coordinates of the first cell */
+    int n[3];           /* cells per axis */
+    uint32_t *range;    /* 2 per cell: first, end (sorted particle indices) */
+    size_t cap;         /* entries allocated (cells) */
+    size_t particles;   /* non-isolated particles in range */
+} jm_hood;
+
+/* Fills hood with the cells within the influence radius of the box [lo, hi]. */
+int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
+
+/* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) into f (x fastest). */
+void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
+                     const float *y, const float *z, int n, float *f);
+
+/* Outward unit normal (minus the normalised gradient) at p; returns 0 if the
+ * gradient vanishes (normal left untouched). */
+int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3], float n[3]);
+
+/* Metasphere only: the field value at p (as sampled on nodes). */
+float jm_field_value(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3]);
+#endif

@@ -1,0 +1,295 @@
+/* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
+#include "grid.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+
+static int cmp_id(const void *a, const void *b, const uint32_t *ids)
+{
+    uint32_t x = ids[*(const uint32_t *)a], y = ids[*(const uint32_t *)b];
+    if (x != y) return x < y ? -1 : 1;
+    uint32_t ia = *(const uint32_t *)a, ib = *(const uint32_t *)b;
+    return ia < ib ? -1 : ia > ib;
+}
+
+/* Stable sort of input indices by id (merge sort; ids may repeat). */
+static void sort_by_id(uint32_t *idx, uint32_t *tmp, size_t n, const uint32_t *ids)
+{
+    if (n < 2) return;
+    size_t m = n / 2;
+    sort_by_id(idx, tmp, m, ids);
+    sort_by_id(idx + m, tmp, n - m, ids);
+    size_t i = 0, j = m, k = 0;
+    while (i < m && j < n) tmp[k++] = cmp_id(&idx[j], &idx[i], ids) < 0 ? idx[j++] : idx[i++];
+    while (i < m) tmp[k++] = idx[i++];
+    while (j < n) tmp[k++] = idx[j++];
+    memcpy(idx, tmp, n * sizeof *idx);
+}
+
+typedef struct {
+    jm_grid *g;
+    const jm_config *c;
+    int range;        /* cells to scan each side for the isolation test */
+    float iso2;       /* squared isolation radius */
+    uint32_t *counts; /* metasphere: links per particle */
+} nb_job;
+
+/* Visits the particles of the cells within `range` of cell ci. */
+#define FOR_NEAR_CELLS(g, ci, range, ...)                                              \
+    do {                                                                                \
+        const int32_t *cc_ = &(g)->cell_coord[3 * (size_t)(ci)];                        \
+        for (int dz_ = -(range); dz_ <= (range); dz_++)                                 \
+            for (int dy_ = -(range); dy_ <= (range); dy_++)                             \
+                for (int dx_ = -(range); dx_ <= (range); dx_++) {                       \
+                    uint32_t nc_ = jm_grid_cell((g), (int64_t)cc_[0] + dx_,             \
+                                                (int64_t)cc_[1] + dy_, (int64_t)cc_[2] + dz_); \
+                    if (nc_ == UINT32_MAX) continue;                                    \
+                    for (uint32_t j = (g)->cell_start[nc_]; j < (g)->cell_start[nc_ + 1]; j++) { \
+                        __VA_ARGS__                                                            \
+                    }                                                                   \
+                }                                                                       \
+    } while (0)
+
+/* Is particle i (in cell ci) without any other particle closer than sqrt(iso2)? */
+static int lonely(const jm_grid *g, uint32_t ci, uint32_t i, int range, float iso2)
+{
+    const float *p = GP(g, i);
+    FOR_NEAR_CELLS(g, ci, range, {
+        if (j == i) continue;
+        const float *q = GP(g, j);
+        float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+        if (dx * dx + dy * dy + dz * dz < iso2) return 0;
+    });
+    return 1;
+}
+
+static void sph_cell(void *arg, size_t ci, int worker)
+{
+    (void)worker;
+    nb_job *job = arg;
+    jm_grid *g = job->g;
+    float inv = 1.0f / job->c->sph_h, sup2 = job->c->support * job->c->support;
+    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
+        const float *p = GP(g, i);
+        float sum = 0.0f;
+        int others = 0;
+        FOR_NEAR_CELLS(g, ci, 1, {
+            const float *q = GP(g, j);
+            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            if (d2 < sup2) {
+                sum += jm_cubic_w(sqrtf(d2) * inv);
+                others += j != i;
+            }
+        });
+        g->weight[i] = 1.0f / sum; /* sum >= w(0) = 1 */
+        g->isolated[i] = job->c->templates && !others && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
+    }
+}
+
+static void meta_count(void *arg, size_t ci, int worker)
+{
+    (void)worker;
+    nb_job *job = arg;
+    jm_grid *g = job->g;
+    float link2 = job->c->link * job->c->link;
+    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
+        const float *p = GP(g, i);
+        uint32_t n = 0;
+        FOR_NEAR_CELLS(g, ci, 1, {
+            const float *q = GP(g, j);
+            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            n += (j != i && d2 < link2 && d2 > 0.0f);
+        });
+        job->counts[i] = n;
+        g->isolated[i] = job->c->templates && n == 0 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
+    }
+}
+
+static void meta_fill(void *arg, size_t ci, int worker)
+{
+    (void)worker;
+    nb_job *job = arg;
+    jm_grid *g = job->g;
+    float link2 = job->c->link * job->c->link;
+    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
+        const float *p = GP(g, i);
+        uint32_t k = g->nb_start[i];
+        FOR_NEAR_CELLS(g, ci, 1, {
+            const float *q = GP(g, j);
+            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            if (j != i && d2 < link2 && d2 > 0.0f) g->nb[k++] = j;
+        });
+    }
+}
+
+void jm_grid_free(jm_grid *g, jm_mem *mem)
+{
+    size_t n = g->n;
+    jm_free(mem, g->pos, 3 * n * sizeof(float));
+    jm_free(mem, g->order, n * sizeof(uint32_t));
+    jm_free(mem, g->weight, n * sizeof(float));
+    jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
+    jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
+    jm_free(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t));
+    jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
+    jm_free(mem, g->isolated, n);
+    if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
+    memset(g, 0, sizeof *g);
+}
+
+jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c, const jm_particles *in)
+{
+    memset(g, 0, sizeof *g);
+    size_t n = in->count;
+    size_t stride = in->stride ? in->stride : 3 * sizeof(float);
+    if (n > UINT32_MAX / 2) return JM_E_TOO_LARGE;
+    if (stride < 3 * sizeof(float)) return JM_E_INVALID_ARGUMENT;
+    g->n = n;
+    g->cell = c->cell;
+    g->inv_cell = 1.0f / c->cell;
+    const char *base = (const char *)in->xyz;
+
+    /* validate and bound */
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < n; i++) {
+        float p[3];
+        memcpy(p, base + i * stride, sizeof p);
+        for (int a = 0; a < 3; a++) {
+            if (!isfinite(p[a])) return JM_E_INVALID_PARTICLE;
+            if (p[a] < lo[a]) lo[a] = p[a];
+            if (p[a] > hi[a]) hi[a] = p[a];
+        }
+    }
+    for (int a = 0; a < 3; a++) {
+        /* lattice node coordinates must stay within +-2^30 cubes */
+        if (fabsf(lo[a]) * c->inv_h > 1e9f || fabsf(hi[a]) * c->inv_h > 1e9f) return JM_E_TOO_LARGE;
+        g->lo[a] = lo[a];
+        g->hi[a] = hi[a];
+        g->origin[a] = (int64_t)floorf(lo[a] * g->inv_cell) - 4;
+        if ((int64_t)floorf(hi[a] * g->inv_cell) + 4 - g->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
+    }
+
+    /* processing order: input order, or by id */
+    uint32_t *order = jm_alloc(mem, (n ? n : 1) * sizeof *order);
+    if (!order) return JM_E_OUT_OF_MEMORY;
+    for (size_t i = 0; i < n; i++) order[i] = (uint32_t)i;
+    if (in->ids && n > 1) {
+        uint32_t *tmp = jm_alloc(mem, n * sizeof *tmp);
+        if (!tmp) { jm_free(mem, order, n * sizeof *order); return JM_E_OUT_OF_MEMORY; }
+        sort_by_id(order, tmp, n, in->ids);
+        jm_free(mem, tmp, n * sizeof *tmp);
+    }
+
+    jm_status st = jm_hashmap_init(&g->cells, mem, n / 2 + 16);
+    uint32_t *pcell = jm_alloc(mem, (n ? n : 1) * sizeof *pcell);
+    uint32_t *count = NULL;
+    size_t count_cap = 0;
+    if (st != JM_OK || !pcell) { st = st ? st : JM_E_OUT_OF_MEMORY; goto fail; }
+    /* cells numbered in order of first appearance; grow the map as needed */
+    size_t ncells = 0;
+    for (size_t k = 0; k < n; k++) {
+        float p[3];
+        memcpy(p, base + (size_t)order[k] * stride, sizeof p);
+        int64_t cx = (int64_t)floorf(p[0] * g->inv_cell) - g->origin[0];
+        int64_t cy = (int64_t)floorf(p[1] * g->inv_cell) - g->origin[1];
+        int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
+        if (g->cells.count * 2 + 2 > g->cells.cap) {
+            /* rehash into a bigger table */
+            jm_hashmap big;
+            st = jm_hashmap_init(&big, mem, g->cells.cap);
+            if (st != JM_OK) goto fail;
+            for (size_t s = 0; s < g->cells.cap; s++)
+                if (g->cells.keys[s] != JM_HASH_EMPTY) *jm_hashmap_upsert(&big, g->cells.keys[s]) = g->cells.vals[s];
+            jm_hashmap_free(&g->cells, mem);
+            g->cells = big;
+        }
+        uint32_t *v = jm_hashmap_upsert(&g->cells, jm_key3(cx, cy, cz));
+        if (*v == UINT32_MAX) {
+            if (ncells == count_cap) {
+                size_t nc = count_cap ? count_cap * 2 : 256;
+                uint32_t *bigger = jm_realloc(mem, count, count_cap * 4 * sizeof *count, nc * 4 * sizeof *count);
+                if (!bigger) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+                count = bigger;
+                count_cap = nc;
+            }
+            count[4 * ncells] = 0;
+            count[4 * ncells + 1] = (uint32_t)(cx + g->origin[0]);
+            count[4 * ncells + 2] = (uint32_t)(cy + g->origin[1]);
+            count[4 * ncells + 3] = (uint32_t)(cz + g->origin[2]);
+            *v = (uint32_t)ncells++;
+        }
+        count[4 * *v]++;
+        pcell[k] = *v;
+    }
+    g->ncells = ncells;
+    g->cell_start = jm_alloc(mem, (ncells + 1) * sizeof *g->cell_start);
+    g->cell_coord = jm_alloc(mem, (ncells ? 3 * ncells : 1) * sizeof *g->cell_coord);
+    g->pos = jm_alloc(mem, (n ? 3 * n : 1) * sizeof(float));
+    g->order = jm_alloc(mem, (n ? n : 1) * sizeof(uint32_t));
+    g->isolated = jm_calloc(mem, n ? n : 1, 1);
+    if (!g->cell_start || !g->cell_coord || !g->pos || !g->order || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+    uint32_t acc = 0;
+    for (size_t ci = 0; ci < ncells; ci++) {
+        g->cell_start[ci] = acc;
+        acc += count[4 * ci];
+        count[4 * ci] = g->cell_start[ci]; /* becomes the fill cursor */
+        for (int a = 0; a < 3; a++) g->cell_coord[3 * ci + a] = (int32_t)count[4 * ci + 1 + a];
+    }
+    g->cell_start[ncells] = acc;
+    for (size_t k = 0; k < n; k++) {
+        uint32_t dst = count[4 * pcell[k]]++;
+        memcpy(GP(g, dst), base + (size_t)order[k] * stride, 3 * sizeof(float));
+        g->order[dst] = order[k];
+    }
+    jm_free(mem, count, count_cap * 4 * sizeof *count);
+    count = NULL;
+    jm_free(mem, pcell, (n ? n : 1) * sizeof *pcell);
+    pcell = NULL;
+    jm_free(mem, order, (n ? n : 1) * sizeof *order);
+    order = NULL;
+
+    /* neighbour data */
+    nb_job job = {g, c, 1, 0, NULL};
+    float iso;
+    if (c->field == JM_FIELD_SPH) iso = 2.0f * c->support;
+    else iso = fmaxf(c->link, 2.6f * c->r);
+    job.iso2 = iso * iso;
+    job.range = (int)ceilf(iso / c->cell);
+    if (c->field == JM_FIELD_SPH) {
+        g->weight = jm_alloc(mem, (n ? n : 1) * sizeof(float));
+        if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        jm_pool_run(pool, ncells, 16, sph_cell, &job);
+    } else {
+        g->nb_start = jm_alloc(mem, (n + 1) * sizeof(uint32_t));
+        if (!g->nb_start) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        job.counts = g->nb_start;
+        jm_pool_run(pool, ncells, 16, meta_count, &job);
+        size_t total = 0;
+        for (size_t i = 0; i < n; i++) {
+            uint32_t k = g->nb_start[i];
+            g->nb_start[i] = (uint32_t)total;
+            total += k;
+            if (total > UINT32_MAX) { st = JM_E_TOO_LARGE; goto fail; }
+        }
+        g->nb_start[n] = (uint32_t)total;
+        g->nb_count = total;
+        g->nb = jm_alloc(mem, (total ? total : 1) * sizeof(uint32_t));
+        if (!g->nb) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        if (!total) g->nb_count = 1; /* what was allocated */
+        jm_pool_run(pool, ncells, 16, meta_fill, &job);
+    }
+    for (size_t i = 0; i < n; i++) g->n_isolated += g->isolated[i];
+    return JM_OK;
+
+fail:
+    jm_free(mem, count, count_cap * 4 * sizeof *count);
+    jm_free(mem, pcell, (n ? n : 1) * sizeof *pcell);
+    jm_free(mem, order, (n ? n : 1) * sizeof *order);
+    jm_grid_free(g, mem);
+    return st;
+}

@@ -1,0 +1,19 @@
+/* grid.h - particles sorted into cells, with neighbour data: densities, links, isolation. */
+#ifndef JETMESH_GRID_H
+#define JETMESH_GRID_H
+#include "internal.h"
+
+/* Builds g from the particles (validating them). */
+jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c,
+                        const jm_particles *in);
+void jm_grid_free(jm_grid *g, jm_mem *mem);
+/* Cell index of absolute cell coordinates, or UINT32_MAX if empty/out of range. */
+static inline uint32_t jm_grid_cell(const jm_grid *g, int64_t x, int64_t y, int64_t z)
+{
+    x -= g->origin[0];
+    y -= g->origin[1];
+    z -= g->origin[2];
+    if (x < 0 || y < 0 || z < 0 || x >= JM_KEY_MAX || y >= JM_KEY_MAX || z >= JM_KEY_MAX) return UINT32_MAX;
+    return jm_hashmap_get(&g->cells, jm_key3(x, y, z));
+}
+#endif

@@ -1,0 +1,136 @@
+/* internal.h - types and helpers shared by the library's translation units (not installed). */
+#ifndef JETMESH_INTERNAL_H
+#define JETMESH_INTERNAL_H
+
+#include "jetmesh.h"
+#include <stdint.h>
+#include <stddef.h>
+
+/* ---- memory accounting (alloc.c): every heap byte of a context is counted */
+typedef struct jm_mem {
+    _Atomic size_t current;
+    _Atomic size_t peak;
+} jm_mem;
+void jm_mem_add(jm_mem *m, size_t bytes); /* count memory allocated elsewhere */
+void jm_mem_sub(jm_mem *m, size_t bytes);
+
+void *jm_alloc(jm_mem *m, size_t bytes);            /* NULL on failure or overflow */
+void *jm_calloc(jm_mem *m, size_t n, size_t size);
+void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes);
+void jm_free(jm_mem *m, void *p, size_t bytes);
+/* Multiplies with overflow check; returns 0 on overflow. */
+int jm_mul_size(size_t a, size_t b, size_t *out);
+
+/* ---- thread pool (pool.c) */
+typedef struct jm_pool jm_pool;
+typedef void (*jm_task_fn)(void *arg, size_t item, int worker);
+/* Starts n-1 helper threads (the caller is worker 0). */
+jm_status jm_pool_create(int nthreads, jm_pool **out);
+void jm_pool_free(jm_pool *p);
+int jm_pool_threads(const jm_pool *p);
+/* Runs fn(arg, i, worker) for every i in [0, n), items handed out
+ * dynamically in chunks of `chunk`; returns when all are done. */
+void jm_pool_run(jm_pool *p, size_t n, size_t chunk, jm_task_fn fn, void *arg);
+
+/* ---- time */
+double jm_now_ms(void);
+
+/* ---- resolved parameters */
+typedef struct jm_config {
+    float r;           /* radius */
+    float h;           /* cube edge, world */
+    float inv_h;
+    jm_field field;
+    jm_method method;
+    float threshold;
+    float sph_h;       /* smoothing length, world */
+    float support;     /* sph: 2*sph_h */
+    float link;        /* metasphere link distance, world */
+    float margin;      /* metasphere: node values clamped below -margin/r */
+    float influence;   /* radius around a particle where it affects nodes */
+    float cell;        /* cell size of the particle grid */
+    int block;         /* cubes per block side */
+    jm_uv_mode uv_mode;
+    float uv_scale;
+    int uv_axis;       /* 0 x, 1 y, 2 z */
+    int normals;
+    int templates;
+    int compensate;    /* metasphere: offset vertices by the chord sag */
+    size_t max_bytes;
+} jm_config;
+
+jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);
+
+/* ---- cubic spline kernel (sph) */
+static inline float jm_cubic_w(float q) /* without the 1/(pi h^3) factor */
+{
+    float a = 2.0f - q, b = 1.0f - q;
+    a = a > 0.0f ? a : 0.0f;
+    b = b > 0.0f ? b : 0.0f;
+    return 0.25f * a * a * a - b * b * b;
+}
+static inline float jm_cubic_dw(float q) /* d/dq of jm_cubic_w */
+{
+    float a = 2.0f - q, b = 1.0f - q;
+    a = a > 0.0f ? a : 0.0f;
+    b = b > 0.0f ? b : 0.0f;
+    return -0.75f * a * a + 3.0f * b * b;
+}
+
+/* ---- open-addressing hash map uint64 -> uint32 (hashmap.c) */
+typedef struct jm_hashmap {
+    uint64_t *keys;
+    uint32_t *vals;
+    size_t cap;        /* power of two */
+    size_t count;
+    unsigned shift;
+} jm_hashmap;
+#define JM_HASH_EMPTY UINT64_MAX
+jm_status jm_hashmap_init(jm_hashmap *m, jm_mem *mem, size_t expected);
+void jm_hashmap_free(jm_hashmap *m, jm_mem *mem);
+/* Returns the slot's value pointer, inserting (val = UINT32_MAX) if absent. */
+uint32_t *jm_hashmap_upsert(jm_hashmap *m, uint64_t key);
+/* UINT32_MAX if absent. */
+static inline uint32_t jm_hashmap_get(const jm_hashmap *m, uint64_t key)
+{
+    size_t mask = m->cap - 1;
+    size_t i = (size_t)((key * 0x9E3779B97F4A7C15ull) >> m->shift);
+    for (;;) {
+        uint64_t k = m->keys[i];
+        if (k == key) return m->vals[i];
+        if (k == JM_HASH_EMPTY) return UINT32_MAX;
+        i = (i + 1) & mask;
+    }
+}
+
+/* ---- particles sorted into grid cells (grid.c) */
+#define JM_KEY_BITS 21
+#define JM_KEY_MAX ((int64_t)1 << JM_KEY_BITS)
+static inline uint64_t jm_key3(int64_t x, int64_t y, int64_t z)
+{
+    return ((uint64_t)z << (2 * JM_KEY_BITS)) | ((uint64_t)y << JM_KEY_BITS) | (uint64_t)x;
+}
+
+typedef struct jm_grid {
+    size_t n;             /* particles */
+    float *pos;           /* 3n, sorted by cell */
+    uint32_t *order;      /* sorted index -> input index */
+    float *weight;        /* sph: V_j per sorted particle */
+    uint32_t *nb_start;   /* metasphere: n+1 offsets into nb */
+    uint32_t *nb;         /* metasphere: neighbour sorted indices within link */
+    size_t nb_count;
+    size_t ncells;
+    uint32_t *cell_start; /* ncells+1 offsets into pos */
+    int32_t *cell_coord;  /* 3 per cell, absolute cell coordinates */
+    jm_hashmap cells;     /* key (relative coords) -> cell index */
+    int64_t origin[3];    /* cell coordinate of relative zero */
+    float cell;           /* cell size */
+    float inv_cell;
+    float lo[3], hi[3];   /* particle bounds */
+    uint8_t *isolated;    /* per sorted particle: 1 if no neighbour in reach */
+    size_t n_isolated;
+} jm_grid;
+
+typedef struct jm_context_s_fwd jm_context_fwd;
+
+#endif

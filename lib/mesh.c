@@ -1,0 +1,657 @@
+/* mesh.c - the context and the frame pipeline: grid, active blocks, batches, stitching, templates. */
+#include "block.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+struct jm_context {
+    jm_params params; /* with defaults filled in */
+    jm_config cfg;
+    jm_pool *pool;
+    int threads;
+    jm_mem mem;
+    jm_scratch *scratch;
+    int nscratch;
+    jm_bout *bouts;
+    size_t nbouts;
+    /* the last mesh */
+    float *pos, *nrm, *uv;
+    size_t capv;
+    uint32_t *idx;
+    size_t capi;
+    size_t nv, ni;
+    /* the sphere template (isolated particles) */
+    int have_tmpl;
+    float *t_pos, *t_nrm;
+    uint32_t *t_idx;
+    size_t t_nv, t_ni;
+    float t_origin[3];
+};
+
+static int cpu_count(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : (n > 256 ? 256 : (int)n);
+}
+
+static void drop_template(jm_context *ctx)
+{
+    jm_free(&ctx->mem, ctx->t_pos, ctx->t_nv * 3 * sizeof(float));
+    jm_free(&ctx->mem, ctx->t_nrm, ctx->t_nv * 3 * sizeof(float));
+    jm_free(&ctx->mem, ctx->t_idx, ctx->t_ni * sizeof(uint32_t));
+    ctx->t_pos = ctx->t_nrm = NULL;
+    ctx->t_idx = NULL;
+    ctx->t_nv = ctx->t_ni = 0;
+    ctx->have_tmpl = 0;
+}
+
+static void drop_scratch(jm_context *ctx)
+{
+    for (int i = 0; i < ctx->nscratch; i++) {
+        jm_mem_sub(&ctx->mem, jm_scratch_bytes(ctx->scratch[i].B));
+        jm_scratch_free(&ctx->scratch[i]);
+    }
+    free(ctx->scratch);
+    ctx->scratch = NULL;
+    ctx->nscratch = 0;
+}
+
+jm_status jm_context_set_params(jm_context *ctx, const jm_params *params)
+{
+    if (!ctx || !params) return JM_E_INVALID_ARGUMENT;
+    jm_config c;
+    jm_params filled;
+    jm_status st = jm_config_resolve(params, &c, &filled);
+    if (st != JM_OK) return st;
+    int threads = filled.threads ? filled.threads : cpu_count();
+    if (threads > 256) threads = 256;
+    filled.threads = threads;
+    if (!ctx->pool || threads != ctx->threads) {
+        jm_pool *pool = NULL;
+        st = jm_pool_create(threads, &pool);
+        if (st != JM_OK) return st;
+        jm_pool_free(ctx->pool);
+        ctx->pool = pool;
+        ctx->threads = threads;
+    }
+    if (memcmp(&c, &ctx->cfg, sizeof c) != 0) drop_template(ctx);
+    if (ctx->nscratch && (ctx->scratch[0].B != c.block || ctx->nscratch != threads)) drop_scratch(ctx);
+    ctx->cfg = c;
+    ctx->params = filled;
+    return JM_OK;
+}
+
+jm_status jm_context_create(const jm_params *params, jm_context **out_ctx)
+{
+    if (!out_ctx) return JM_E_INVALID_ARGUMENT;
+    *out_ctx = NULL;
+    if (!params) return JM_E_INVALID_ARGUMENT;
+    jm_context *ctx = calloc(1, sizeof *ctx);
+    if (!ctx) return JM_E_OUT_OF_MEMORY;
+    jm_status st = jm_context_set_params(ctx, params);
+    if (st != JM_OK) {
+        jm_context_free(ctx);
+        return st;
+    }
+    *out_ctx = ctx;
+    return JM_OK;
+}
+
+void jm_context_get_params(const jm_context *ctx, jm_params *out_params)
+{
+    if (ctx && out_params) *out_params = ctx->params;
+}
+
+void jm_context_free(jm_context *ctx)
+{
+    if (!ctx) return;
+    drop_template(ctx);
+    drop_scratch(ctx);
+    for (size_t i = 0; i < ctx->nbouts; i++) jm_bout_free(&ctx->bouts[i], &ctx->mem);
+    free(ctx->bouts);
+    jm_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
+    jm_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
+    jm_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
+    jm_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    jm_pool_free(ctx->pool);
+    free(ctx);
+}
+
+/* ---- output arrays */
+static int reserve_mesh(jm_context *ctx, size_t nv, size_t ni)
+{
+    if (nv > ctx->capv) {
+        size_t nc = ctx->capv + ctx->capv / 2;
+        if (nc < nv) nc = nv;
+        if (nc < 1024) nc = 1024;
+        float *p = jm_realloc(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+        if (!p) return 0;
+        ctx->pos = p;
+        float *n = jm_realloc(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+        if (!n) { ctx->pos = jm_realloc(&ctx->mem, ctx->pos, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float)); return 0; }
+        ctx->nrm = n;
+        float *u = jm_realloc(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float), nc * 2 * sizeof(float));
+        if (!u) {
+            ctx->pos = jm_realloc(&ctx->mem, ctx->pos, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
+            ctx->nrm = jm_realloc(&ctx->mem, ctx->nrm, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
+            return 0;
+        }
+        ctx->uv = u;
+        ctx->capv = nc;
+    }
+    if (ni > ctx->capi) {
+        size_t nc = ctx->capi + ctx->capi / 2;
+        if (nc < ni) nc = ni;
+        if (nc < 3072) nc = 3072;
+        uint32_t *p = jm_realloc(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t), nc * sizeof(uint32_t));
+        if (!p) return 0;
+        ctx->idx = p;
+        ctx->capi = nc;
+    }
+    return 1;
+}
+
+/* ---- the frame pipeline */
+typedef struct frame_job {
+    jm_context *ctx;
+    const jm_config *c;
+    jm_grid *g;
+    jm_block_set *bs;
+    jm_block_env env;
+    size_t first;          /* first block of the batch */
+    size_t *vbase;         /* per block: first global vertex */
+    uint32_t **bmap;       /* per block: sorted (slot, local) pairs */
+    uint32_t *nbmap;
+    size_t *slot_vbase, *slot_ibase, *slot_pbase;
+    uint32_t *pend;        /* global pending pairs */
+    size_t npend, cappend;
+    int failed;            /* 1 memory, 2 internal */
+    uint32_t *iso;         /* sorted indices of isolated particles */
+    size_t tmpl_v0, tmpl_i0;
+} frame_job;
+
+static void block_task(void *arg, size_t i, int worker)
+{
+    frame_job *job = arg;
+    jm_block_mesh(&job->env, job->first + i, &job->ctx->scratch[worker], &job->ctx->bouts[i]);
+}
+
+static void copy_task(void *arg, size_t i, int worker)
+{
+    (void)worker;
+    frame_job *job = arg;
+    jm_context *ctx = job->ctx;
+    jm_bout *o = &ctx->bouts[i];
+    size_t vb = job->slot_vbase[i], ib = job->slot_ibase[i], pb = job->slot_pbase[i];
+    memcpy(ctx->pos + 3 * vb, o->pos, o->nv * 3 * sizeof(float));
+    memcpy(ctx->nrm + 3 * vb, o->nrm, o->nv * 3 * sizeof(float));
+    memcpy(ctx->uv + 2 * vb, o->uv, o->nv * 2 * sizeof(float));
+    uint32_t *dst = ctx->idx + ib;
+    for (size_t t = 0; t < o->ni; t++) {
+        uint32_t r = o->tri[t];
+        dst[t] = (r & JM_PENDING) ? (JM_PENDING | (uint32_t)(pb + (r & ~JM_PENDING))) : (uint32_t)(vb + r);
+    }
+    memcpy(job->pend + 2 * pb, o->pend, o->np * 2 * sizeof(uint32_t));
+    size_t b = job->first + i;
+    if (o->nb) {
+        uint32_t *m = jm_alloc(&ctx->mem, o->nb * 2 * sizeof(uint32_t));
+        if (!m) { job->failed = 1; return; }
+        memcpy(m, o->bmap, o->nb * 2 * sizeof(uint32_t));
+        job->bmap[b] = m;
+        job->nbmap[b] = (uint32_t)o->nb;
+    }
+}
+
+static void resolve_task(void *arg, size_t p, int worker)
+{
+    (void)worker;
+    frame_job *job = arg;
+    uint32_t owner = job->pend[2 * p], slot = job->pend[2 * p + 1];
+    const uint32_t *m = job->bmap[owner];
+    size_t lo = 0, hi = job->nbmap[owner];
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (m[2 * mid] < slot) lo = mid + 1; else hi = mid;
+    }
+    if (lo < job->nbmap[owner] && m[2 * lo] == slot) {
+        job->pend[2 * p] = (uint32_t)(job->vbase[owner] + m[2 * lo + 1]);
+    } else {
+        job->pend[2 * p] = 0;
+        job->failed = 2;
+    }
+}
+
+#define CHUNK 65536
+static void patch_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    frame_job *job = arg;
+    jm_context *ctx = job->ctx;
+    size_t a = chunk * CHUNK, b = a + CHUNK < ctx->ni ? a + CHUNK : ctx->ni;
+    for (size_t t = a; t < b; t++) {
+        uint32_t r = ctx->idx[t];
+        if (r & JM_PENDING) ctx->idx[t] = job->pend[2 * (size_t)(r & ~JM_PENDING)];
+    }
+}
+
+static void template_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    frame_job *job = arg;
+    jm_context *ctx = job->ctx;
+    const float *c = &job->g->pos[3 * (size_t)job->iso[k]];
+    float d[3] = {c[0] - ctx->t_origin[0], c[1] - ctx->t_origin[1], c[2] - ctx->t_origin[2]};
+    size_t v0 = job->tmpl_v0 + k * ctx->t_nv;
+    for (size_t v = 0; v < ctx->t_nv; v++) {
+        float *p = ctx->pos + 3 * (v0 + v), *n = ctx->nrm + 3 * (v0 + v);
+        for (int a = 0; a < 3; a++) {
+            p[a] = ctx->t_pos[3 * v + a] + d[a];
+            n[a] = ctx->t_nrm[3 * v + a];
+        }
+        if (job->c->uv_mode != JM_UV_NONE) jm_uv(job->c, p, n, ctx->uv + 2 * (v0 + v));
+    }
+    uint32_t *dst = ctx->idx + job->tmpl_i0 + k * ctx->t_ni;
+    for (size_t t = 0; t < ctx->t_ni; t++) dst[t] = (uint32_t)(v0 + ctx->t_idx[t]);
+}
+
+/* A triangle whose corners lie on a curved surface cuts inside it by, on
+ * average over its area, sum over its edges of k_e l_e^2 / 24 (k_e the normal
+ * curvature along edge e; exact for a sphere), and k_e l_e^2 = dn . dp with the
+ * field's unit normals n. Moving every vertex outward by the area-weighted
+ * mean of that sag over its triangles makes the mesh straddle the surface
+ * instead of being inscribed in it, so areas and volumes come out unbiased. */
+static int compensate_sag(jm_context *ctx)
+{
+    size_t nv = ctx->nv, nt = ctx->ni / 3;
+    float *acc = jm_calloc(&ctx->mem, 2 * nv, sizeof(float));
+    if (!acc) return 0;
+    const float *P = ctx->pos, *N = ctx->nrm;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *v = ctx->idx + 3 * t;
+        float sag = 0.0f, e1[3], e2[3];
+        for (int k = 0; k < 3; k++) {
+            const float *pa = P + 3 * v[k], *pb = P + 3 * v[(k + 1) % 3];
+            const float *na = N + 3 * v[k], *nb = N + 3 * v[(k + 1) % 3];
+            sag += (nb[0] - na[0]) * (pb[0] - pa[0]) + (nb[1] - na[1]) * (pb[1] - pa[1]) +
+                   (nb[2] - na[2]) * (pb[2] - pa[2]);
+        }
+        sag *= 1.0f / 24.0f;
+        for (int a = 0; a < 3; a++) {
+            e1[a] = P[3 * v[1] + a] - P[3 * v[0] + a];
+            e2[a] = P[3 * v[2] + a] - P[3 * v[0] + a];
+        }
+        float cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+        float area = 0.5f * sqrtf(cx * cx + cy * cy + cz * cz);
+        for (int k = 0; k < 3; k++) {
+            acc[2 * v[k]] += area * sag;
+            acc[2 * v[k] + 1] += area;
+        }
+    }
+    for (size_t i = 0; i < nv; i++) {
+        if (!(acc[2 * i + 1] > 0.0f)) continue;
+        float d = acc[2 * i] / acc[2 * i + 1];
+        for (int a = 0; a < 3; a++) ctx->pos[3 * i + a] += d * N[3 * i + a];
+    }
+    jm_free(&ctx->mem, acc, 2 * nv * sizeof(float));
+    return 1;
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* Working memory estimate for a frame of n particles and nblocks blocks. */
+static size_t estimate(const jm_config *c, size_t n, size_t nblocks, int threads)
+{
+    size_t B = (size_t)c->block;
+    double per_particle = 12 + 4 + 4 + 1 + 16 + (c->field == JM_FIELD_METASPHERE ? 4 + 4 * 16 : 4);
+    /* a block crossed by the surface: about 2 B^2 vertices (32 bytes with
+     * normal and uv) and 4 B^2 triangle indices... counted for a quarter of
+     * the blocks, the rest being inside or outside the fluid */
+    double per_block = 48 + 0.25 * (2.0 * B * B * (32 + 8) + 4.0 * B * B * 12);
+    double bytes = (double)n * per_particle + (double)nblocks * per_block +
+                   (double)threads * (double)jm_scratch_bytes((int)B);
+    return bytes > (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
+}
+
+static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs)
+{
+    memset(bs, 0, sizeof *bs);
+    const double BW = (double)c->block * c->h;
+    const float infl = c->influence;
+    for (int a = 0; a < 3; a++) {
+        bs->origin[a] = (int64_t)floor((g->lo[a] - infl) / BW) - 2;
+        if ((int64_t)floor((g->hi[a] + infl) / BW) + 2 - bs->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
+    }
+    jm_hashmap set;
+    jm_status st = jm_hashmap_init(&set, mem, g->ncells * 2 + 16);
+    if (st != JM_OK) return st;
+    for (size_t ci = 0; ci < g->ncells; ci++) {
+        int any = 0;
+        for (uint32_t p = g->cell_start[ci]; p < g->cell_start[ci + 1] && !any; p++) any = !g->isolated[p];
+        if (!any) continue;
+        int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; a++) {
+            double cl = (double)g->cell_coord[3 * ci + a] * g->cell;
+            lo[a] = (int64_t)floor((cl - infl) / BW) - bs->origin[a];
+            hi[a] = (int64_t)floor((cl + g->cell + infl) / BW) - bs->origin[a];
+            if (lo[a] < 0) lo[a] = 0;
+        }
+        for (int64_t z = lo[2]; z <= hi[2]; z++)
+            for (int64_t y = lo[1]; y <= hi[1]; y++)
+                for (int64_t x = lo[0]; x <= hi[0]; x++) {
+                    if (set.count * 2 + 2 > set.cap) {
+                        jm_hashmap big;
+                        st = jm_hashmap_init(&big, mem, set.cap);
+                        if (st != JM_OK) { jm_hashmap_free(&set, mem); return st; }
+                        for (size_t s = 0; s < set.cap; s++)
+                            if (set.keys[s] != JM_HASH_EMPTY) *jm_hashmap_upsert(&big, set.keys[s]) = 0;
+                        jm_hashmap_free(&set, mem);
+                        set = big;
+                    }
+                    *jm_hashmap_upsert(&set, jm_key3(x, y, z)) = 0;
+                }
+    }
+    bs->count = set.count;
+    bs->key = jm_alloc(mem, (set.count ? set.count : 1) * sizeof *bs->key);
+    if (!bs->key) { jm_hashmap_free(&set, mem); return JM_E_OUT_OF_MEMORY; }
+    size_t k = 0;
+    for (size_t s = 0; s < set.cap; s++)
+        if (set.keys[s] != JM_HASH_EMPTY) bs->key[k++] = set.keys[s];
+    jm_hashmap_free(&set, mem);
+    qsort(bs->key, bs->count, sizeof *bs->key, cmp_u64);
+    st = jm_hashmap_init(&bs->map, mem, bs->count + 1);
+    if (st != JM_OK) return st;
+    for (size_t i = 0; i < bs->count; i++) *jm_hashmap_upsert(&bs->map, bs->key[i]) = (uint32_t)i;
+    return JM_OK;
+}
+
+static void free_blocks(jm_block_set *bs, jm_mem *mem)
+{
+    jm_free(mem, bs->key, (bs->count ? bs->count : 1) * sizeof *bs->key);
+    if (bs->map.keys) jm_hashmap_free(&bs->map, mem);
+    memset(bs, 0, sizeof *bs);
+}
+
+static jm_status ensure_scratch(jm_context *ctx)
+{
+    if (ctx->nscratch == ctx->threads && ctx->scratch && ctx->scratch[0].B == ctx->cfg.block) return JM_OK;
+    drop_scratch(ctx);
+    ctx->scratch = calloc((size_t)ctx->threads, sizeof *ctx->scratch);
+    if (!ctx->scratch) return JM_E_OUT_OF_MEMORY;
+    for (int i = 0; i < ctx->threads; i++) {
+        if (!jm_scratch_init(&ctx->scratch[i], ctx->cfg.block)) {
+            ctx->nscratch = i;
+            drop_scratch(ctx);
+            return JM_E_OUT_OF_MEMORY;
+        }
+        jm_mem_add(&ctx->mem, jm_scratch_bytes(ctx->cfg.block));
+    }
+    ctx->nscratch = ctx->threads;
+    return JM_OK;
+}
+
+static jm_status make_template(jm_context *ctx);
+
+/* Meshes particles with configuration c into the context's output arrays. */
+static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in, jm_stats *st)
+{
+    jm_mem *mem = &ctx->mem;
+    jm_status s = JM_OK;
+    double t0 = jm_now_ms();
+    ctx->nv = ctx->ni = 0;
+    if (in->count == 0) return JM_OK;
+
+    jm_grid g;
+    s = jm_grid_build(&g, mem, ctx->pool, c, in);
+    if (s != JM_OK) return s;
+    jm_block_set bs;
+    s = build_blocks(c, &g, mem, &bs);
+    if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
+    st->particles = in->count;
+    st->isolated = g.n_isolated;
+    st->blocks = bs.count;
+    st->estimated_bytes = estimate(c, in->count, bs.count, ctx->threads);
+    if (c->max_bytes && (st->estimated_bytes > c->max_bytes || mem->current > c->max_bytes)) {
+        s = JM_E_TOO_LARGE;
+        goto out_blocks;
+    }
+    if (g.n_isolated && !ctx->have_tmpl) {
+        s = make_template(ctx);
+        if (s != JM_OK) goto out_blocks;
+    }
+    s = ensure_scratch(ctx);
+    if (s != JM_OK) goto out_blocks;
+    double t1 = jm_now_ms();
+    st->ms_prepare += t1 - t0;
+
+    frame_job job;
+    memset(&job, 0, sizeof job);
+    job.ctx = ctx;
+    job.c = c;
+    job.g = &g;
+    job.bs = &bs;
+    job.env.g = &g;
+    job.env.c = c;
+    job.env.blocks = &bs;
+    job.env.mem = mem;
+    size_t nb = bs.count ? bs.count : 1;
+    job.vbase = jm_calloc(mem, nb, sizeof *job.vbase);
+    job.bmap = jm_calloc(mem, nb, sizeof *job.bmap);
+    job.nbmap = jm_calloc(mem, nb, sizeof *job.nbmap);
+    size_t slots = (size_t)ctx->threads * 8;
+    if (ctx->nbouts < slots) {
+        jm_bout *b = realloc(ctx->bouts, slots * sizeof *b);
+        if (b) {
+            memset(b + ctx->nbouts, 0, (slots - ctx->nbouts) * sizeof *b);
+            ctx->bouts = b;
+            ctx->nbouts = slots;
+        }
+    }
+    job.slot_vbase = jm_alloc(mem, 3 * slots * sizeof(size_t));
+    if (!job.vbase || !job.bmap || !job.nbmap || !job.slot_vbase || ctx->nbouts < slots) {
+        s = JM_E_OUT_OF_MEMORY;
+        goto out_job;
+    }
+    job.slot_ibase = job.slot_vbase + slots;
+    job.slot_pbase = job.slot_ibase + slots;
+
+    double tf = 0, te = 0, ta = 0, t_blocks = 0, t_stitch = 0;
+    size_t nv = 0, ni = 0;
+    for (size_t first = 0; first < bs.count; first += slots) {
+        size_t m = bs.count - first < slots ? bs.count - first : slots;
+        job.first = first;
+        double ta0 = jm_now_ms();
+        jm_pool_run(ctx->pool, m, 1, block_task, &job);
+        double ta1 = jm_now_ms();
+        t_blocks += ta1 - ta0;
+        size_t np = job.npend;
+        for (size_t i = 0; i < m; i++) {
+            jm_bout *o = &ctx->bouts[i];
+            if (o->failed) { s = o->failed == 1 ? JM_E_OUT_OF_MEMORY : JM_E_INTERNAL; goto out_job; }
+            st->cells += o->cells;
+            tf += o->t_field;
+            te += o->t_extract;
+            ta += o->t_attr;
+            job.vbase[first + i] = nv;
+            job.slot_vbase[i] = nv;
+            job.slot_ibase[i] = ni;
+            job.slot_pbase[i] = np;
+            nv += o->nv;
+            ni += o->ni;
+            np += o->np;
+        }
+        if (nv >= JM_PENDING || np >= JM_PENDING) { s = JM_E_TOO_LARGE; goto out_job; }
+        if (!reserve_mesh(ctx, nv, ni)) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+        if (np > job.cappend) {
+            size_t nc = job.cappend ? job.cappend * 2 : 4096;
+            while (nc < np) nc *= 2;
+            uint32_t *p = jm_realloc(mem, job.pend, job.cappend * 2 * sizeof(uint32_t), nc * 2 * sizeof(uint32_t));
+            if (!p) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+            job.pend = p;
+            job.cappend = nc;
+        }
+        job.npend = np;
+        ctx->nv = nv;
+        ctx->ni = ni;
+        jm_pool_run(ctx->pool, m, 1, copy_task, &job);
+        if (job.failed) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+        t_stitch += jm_now_ms() - ta1;
+    }
+    double t2 = jm_now_ms();
+    /* stitch: pending references to vertices owned by later blocks */
+    jm_pool_run(ctx->pool, job.npend, 4096, resolve_task, &job);
+    if (job.failed) { s = JM_E_INTERNAL; goto out_job; }
+    jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
+    if (c->field == JM_FIELD_METASPHERE && c->compensate && !compensate_sag(ctx)) {
+        s = JM_E_OUT_OF_MEMORY;
+        goto out_job;
+    }
+    double t3 = jm_now_ms();
+    t_stitch += t3 - t2;
+
+    /* isolated particles from the template */
+    if (g.n_isolated) {
+        job.iso = jm_alloc(mem, g.n_isolated * sizeof *job.iso);
+        if (!job.iso) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+        size_t k = 0;
+        for (size_t i = 0; i < g.n; i++)
+            if (g.isolated[i]) job.iso[k++] = (uint32_t)i;
+        job.tmpl_v0 = ctx->nv;
+        job.tmpl_i0 = ctx->ni;
+        size_t tv = ctx->nv + g.n_isolated * ctx->t_nv, ti = ctx->ni + g.n_isolated * ctx->t_ni;
+        if (tv >= JM_PENDING) { s = JM_E_TOO_LARGE; goto out_job; }
+        if (!reserve_mesh(ctx, tv, ti)) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+        ctx->nv = tv;
+        ctx->ni = ti;
+        jm_pool_run(ctx->pool, g.n_isolated, 64, template_task, &job);
+    }
+    double t4 = jm_now_ms();
+    /* wall time of the block pass, shared out by the threads' time per stage */
+    double sum = tf + te + ta;
+    if (sum > 0) {
+        st->ms_field += t_blocks * tf / sum;
+        st->ms_extract += t_blocks * te / sum;
+        st->ms_attributes += t_blocks * ta / sum;
+    }
+    st->ms_extract += t_stitch;
+    st->ms_attributes += t4 - t3;
+
+out_job:
+    if (job.iso) jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
+    if (job.bmap)
+        for (size_t b = 0; b < bs.count; b++) jm_free(mem, job.bmap[b], job.nbmap[b] * 2 * sizeof(uint32_t));
+    jm_free(mem, job.pend, job.cappend * 2 * sizeof(uint32_t));
+    jm_free(mem, job.vbase, nb * sizeof *job.vbase);
+    jm_free(mem, job.bmap, nb * sizeof *job.bmap);
+    jm_free(mem, job.nbmap, nb * sizeof *job.nbmap);
+    jm_free(mem, job.slot_vbase, 3 * slots * sizeof(size_t));
+out_blocks:
+    free_blocks(&bs, mem);
+    jm_grid_free(&g, mem);
+    if (s != JM_OK) ctx->nv = ctx->ni = 0;
+    return s;
+}
+
+/* One particle meshed through the lattice: the shape every isolated
+ * particle gets, translated. */
+static jm_status make_template(jm_context *ctx)
+{
+    jm_config c = ctx->cfg;
+    c.templates = 0;
+    c.uv_mode = JM_UV_NONE;
+    c.normals = 1;
+    /* at a lattice node: the symmetric shape (and splashsurf's test case) */
+    ctx->t_origin[0] = ctx->t_origin[1] = ctx->t_origin[2] = 0.0f;
+    jm_particles one = {ctx->t_origin, 1, 0, NULL};
+    jm_stats ignore;
+    memset(&ignore, 0, sizeof ignore);
+    jm_status s = run(ctx, &c, &one, &ignore);
+    if (s != JM_OK) return s;
+    jm_mem *mem = &ctx->mem;
+    ctx->t_pos = jm_alloc(mem, ctx->nv * 3 * sizeof(float));
+    ctx->t_nrm = jm_alloc(mem, ctx->nv * 3 * sizeof(float));
+    ctx->t_idx = jm_alloc(mem, ctx->ni * sizeof(uint32_t));
+    ctx->t_nv = ctx->nv;
+    ctx->t_ni = ctx->ni;
+    if (!ctx->t_pos || !ctx->t_nrm || !ctx->t_idx) { drop_template(ctx); return JM_E_OUT_OF_MEMORY; }
+    memcpy(ctx->t_pos, ctx->pos, ctx->nv * 3 * sizeof(float));
+    memcpy(ctx->t_nrm, ctx->nrm, ctx->nv * 3 * sizeof(float));
+    memcpy(ctx->t_idx, ctx->idx, ctx->ni * sizeof(uint32_t));
+    ctx->have_tmpl = 1;
+    ctx->nv = ctx->ni = 0;
+    return JM_OK;
+}
+
+jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_mesh *out_mesh, jm_stats *out_stats)
+{
+    if (out_mesh) memset(out_mesh, 0, sizeof *out_mesh);
+    if (!ctx || !particles || !out_mesh || (particles->count && !particles->xyz)) return JM_E_INVALID_ARGUMENT;
+    jm_stats st;
+    memset(&st, 0, sizeof st);
+    st.threads = ctx->threads;
+    ctx->mem.peak = ctx->mem.current;
+    double t0 = jm_now_ms();
+    jm_status s = run(ctx, &ctx->cfg, particles, &st);
+    if (s == JM_OK) {
+        jm_mesh *m = out_mesh;
+        m->positions = ctx->pos;
+        m->normals = ctx->cfg.normals ? ctx->nrm : NULL;
+        m->uvs = ctx->cfg.uv_mode != JM_UV_NONE ? ctx->uv : NULL;
+        m->indices = ctx->idx;
+        m->vertex_count = ctx->nv;
+        m->triangle_count = ctx->ni / 3;
+        if (ctx->nv) {
+            for (int a = 0; a < 3; a++) m->bounds_min[a] = m->bounds_max[a] = ctx->pos[a];
+            for (size_t v = 1; v < ctx->nv; v++)
+                for (int a = 0; a < 3; a++) {
+                    float x = ctx->pos[3 * v + a];
+                    if (x < m->bounds_min[a]) m->bounds_min[a] = x;
+                    if (x > m->bounds_max[a]) m->bounds_max[a] = x;
+                }
+        }
+        if (!m->positions) { m->vertex_count = 0; m->triangle_count = 0; }
+        st.vertices = ctx->nv;
+        st.triangles = ctx->ni / 3;
+    }
+    st.ms_total = jm_now_ms() - t0;
+    st.peak_bytes = ctx->mem.peak;
+    if (out_stats) *out_stats = st;
+    return s;
+}
+
+jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size_t *out_bytes)
+{
+    if (!ctx || !particles || !out_bytes || (particles->count && !particles->xyz)) return JM_E_INVALID_ARGUMENT;
+    const jm_config *c = &ctx->cfg;
+    size_t n = particles->count;
+    /* at most the blocks a particle's reach can touch, and at most the
+     * bounding box's blocks */
+    double BW = (double)c->block * c->h;
+    double per = ceil(2.0 * c->influence / BW) + 1;
+    double blocks = (double)n * per * per * per;
+    if (n) {
+        size_t stride = particles->stride ? particles->stride : 12;
+        float lo[3], hi[3];
+        memcpy(lo, particles->xyz, sizeof lo);
+        memcpy(hi, lo, sizeof hi);
+        for (size_t i = 1; i < n; i++) {
+            float p[3];
+            memcpy(p, (const char *)particles->xyz + i * stride, sizeof p);
+            for (int a = 0; a < 3; a++) {
+                if (!isfinite(p[a])) return JM_E_INVALID_PARTICLE;
+                lo[a] = fminf(lo[a], p[a]);
+                hi[a] = fmaxf(hi[a], p[a]);
+            }
+        }
+        double box = 1;
+        for (int a = 0; a < 3; a++) box *= floor((hi[a] - lo[a] + 2 * c->influence) / BW) + 2;
+        if (box < blocks) blocks = box;
+    }
+    size_t nb = blocks > 1e15 ? (size_t)1e15 : (size_t)blocks;
+    *out_bytes = estimate(c, n, nb, ctx->threads);
+    return JM_OK;
+}

@@ -1,0 +1,26 @@
+/* uv.c - texture coordinates that depend only on world position, normal and parameters. */
+#include "block.h"
+#include <math.h>
+
+void jm_uv(const jm_config *c, const float p[3], const float n[3], float uv[2])
+{
+    const float s = 1.0f / c->uv_scale;
+    int axis;
+    switch (c->uv_mode) {
+    case JM_UV_SPHERICAL:
+        uv[0] = atan2f(n[1], n[0]) * (float)(0.5 / M_PI) + 0.5f;
+        uv[1] = acosf(fmaxf(-1.0f, fminf(1.0f, n[2]))) * (float)(1.0 / M_PI);
+        return;
+    case JM_UV_PLANAR:
+        axis = c->uv_axis;
+        break;
+    default: { /* box: drop the normal's dominant axis */
+        float ax = fabsf(n[0]), ay = fabsf(n[1]), az = fabsf(n[2]);
+        axis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+        break;
+    }
+    }
+    int u = axis == 0 ? 1 : 0, v = axis == 2 ? 1 : 2;
+    uv[0] = p[u] * s;
+    uv[1] = p[v] * s;
+}

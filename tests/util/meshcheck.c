@@ -1,0 +1,158 @@
+/* meshcheck.c - test helpers: closedness, manifoldness, orientation, volume, components of a mesh. */
+#include "meshcheck.h"
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+unsigned mc_rand(unsigned *s)
+{
+    *s = *s * 1664525u + 1013904223u;
+    return *s >> 8;
+}
+float mc_randf(unsigned *s) { return (float)(mc_rand(s) & 0xffffff) / 16777216.0f; }
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+static size_t find_root(size_t *p, size_t x)
+{
+    while (p[x] != x) { p[x] = p[p[x]]; x = p[x]; }
+    return x;
+}
+
+typedef struct { uint32_t v, b, c; } corner;
+static int cmp_corner(const void *a, const void *b)
+{
+    const corner *x = a, *y = b;
+    if (x->v != y->v) return x->v < y->v ? -1 : 1;
+    return x->b < y->b ? -1 : x->b > y->b;
+}
+
+int mc_check(const jm_mesh *m, mc_report *r)
+{
+    memset(r, 0, sizeof *r);
+    r->closed = r->edge_manifold = r->vertex_manifold = r->no_degenerate = r->all_referenced = r->normals_ok = 1;
+    size_t nt = m->triangle_count, nv = m->vertex_count;
+    const uint32_t *I = m->indices;
+    const float *P = m->positions;
+    uint64_t *e = malloc((3 * nt + 1) * sizeof *e);
+    corner *cs = malloc((3 * nt + 1) * sizeof *cs);
+    size_t *parent = malloc((nv + 1) * sizeof *parent);
+    char *used = calloc(nv + 1, 1);
+    double *fn = calloc(3 * nv + 1, sizeof *fn);
+    for (size_t v = 0; v < nv; v++) parent[v] = v;
+    for (size_t t = 0; t < nt; t++) {
+        uint32_t a = I[3 * t], b = I[3 * t + 1], c = I[3 * t + 2];
+        if (a >= nv || b >= nv || c >= nv) {
+            snprintf(r->problem, sizeof r->problem, "triangle %zu has an index out of range", t);
+            r->closed = 0;
+            goto out;
+        }
+        if (a == b || b == c || a == c) {
+            if (r->no_degenerate) snprintf(r->problem, sizeof r->problem, "triangle %zu is degenerate", t);
+            r->no_degenerate = 0;
+        }
+        e[3 * t] = (uint64_t)a << 32 | b;
+        e[3 * t + 1] = (uint64_t)b << 32 | c;
+        e[3 * t + 2] = (uint64_t)c << 32 | a;
+        cs[3 * t] = (corner){a, b, c};
+        cs[3 * t + 1] = (corner){b, c, a};
+        cs[3 * t + 2] = (corner){c, a, b};
+        used[a] = used[b] = used[c] = 1;
+        parent[find_root(parent, a)] = find_root(parent, b);
+        parent[find_root(parent, b)] = find_root(parent, c);
+        const float *pa = P + 3 * a, *pb = P + 3 * b, *pc = P + 3 * c;
+        double u[3], w[3], n[3];
+        for (int k = 0; k < 3; k++) { u[k] = pb[k] - pa[k]; w[k] = pc[k] - pa[k]; }
+        n[0] = u[1] * w[2] - u[2] * w[1];
+        n[1] = u[2] * w[0] - u[0] * w[2];
+        n[2] = u[0] * w[1] - u[1] * w[0];
+        r->area += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        r->volume += ((double)pa[0] * ((double)pb[1] * pc[2] - (double)pb[2] * pc[1]) -
+                      (double)pa[1] * ((double)pb[0] * pc[2] - (double)pb[2] * pc[0]) +
+                      (double)pa[2] * ((double)pb[0] * pc[1] - (double)pb[1] * pc[0])) / 6.0;
+        for (int k = 0; k < 3; k++) {
+            fn[3 * a + k] += n[k];
+            fn[3 * b + k] += n[k];
+            fn[3 * c + k] += n[k];
+        }
+    }
+    qsort(e, 3 * nt, sizeof *e, cmp_u64);
+    for (size_t i = 0; i + 1 < 3 * nt; i++)
+        if (e[i] == e[i + 1]) {
+            if (r->edge_manifold)
+                snprintf(r->problem, sizeof r->problem, "directed edge %u-%u used twice", (unsigned)(e[i] >> 32), (unsigned)e[i]);
+            r->edge_manifold = 0;
+        }
+    for (size_t i = 0; i < 3 * nt; i++) {
+        uint64_t rev = (e[i] << 32) | (e[i] >> 32);
+        if (!bsearch(&rev, e, 3 * nt, sizeof *e, cmp_u64)) {
+            if (r->closed)
+                snprintf(r->problem, sizeof r->problem, "edge %u-%u has no opposite (open or misoriented)",
+                         (unsigned)(e[i] >> 32), (unsigned)e[i]);
+            r->closed = 0;
+        }
+    }
+    /* one fan per vertex: the map b -> c of the corners at v is one cycle */
+    qsort(cs, 3 * nt, sizeof *cs, cmp_corner);
+    for (size_t i = 0; i < 3 * nt;) {
+        size_t j = i;
+        while (j < 3 * nt && cs[j].v == cs[i].v) j++;
+        size_t len = j - i, steps = 0;
+        uint32_t start = cs[i].b, cur = start;
+        do {
+            corner key = {cs[i].v, cur, 0};
+            corner *f = bsearch(&key, cs + i, len, sizeof *cs, cmp_corner);
+            if (!f) break;
+            cur = f->c;
+            steps++;
+        } while (cur != start && steps <= len);
+        if (cur != start || steps != len) {
+            if (r->vertex_manifold)
+                snprintf(r->problem, sizeof r->problem, "vertex %u is not manifold (%zu corners, fan of %zu)",
+                         (unsigned)cs[i].v, len, steps);
+            r->vertex_manifold = 0;
+        }
+        i = j;
+    }
+    for (size_t v = 0; v < nv; v++) {
+        if (!used[v]) {
+            if (r->all_referenced) snprintf(r->problem, sizeof r->problem, "vertex %zu unused", v);
+            r->all_referenced = 0;
+            continue;
+        }
+        if (find_root(parent, v) == v) r->components++;
+        if (m->normals) {
+            const float *n = m->normals + 3 * v;
+            double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+            double fl = sqrt(fn[3 * v] * fn[3 * v] + fn[3 * v + 1] * fn[3 * v + 1] + fn[3 * v + 2] * fn[3 * v + 2]);
+            double cosang = fl > 0 ? (n[0] * fn[3 * v] + n[1] * fn[3 * v + 1] + n[2] * fn[3 * v + 2]) / (len * fl) : 1;
+            /* at creases and thin necks the field's normal may lean far from
+             * the faces' (the mesh is piecewise linear); never the other way */
+            if (!(cosang > 0)) r->normals_away++;
+            if (fabs(len - 1.0) > 1e-3) {
+                if (r->normals_ok)
+                    snprintf(r->problem, sizeof r->problem, "vertex %zu normal bad (length %g, cos %g)", v, len, cosang);
+                r->normals_ok = 0;
+            }
+        }
+    }
+    if (r->normals_away * 200 > nv) {
+        if (r->normals_ok)
+            snprintf(r->problem, sizeof r->problem, "%zu of %zu normals point away from their faces", r->normals_away, nv);
+        r->normals_ok = 0;
+    }
+out:
+    free(e);
+    free(cs);
+    free(parent);
+    free(used);
+    free(fn);
+    return r->closed && r->edge_manifold && r->vertex_manifold && r->no_degenerate && r->all_referenced &&
+           r->normals_ok && r->volume > 0;
+}
