@@ -45,9 +45,15 @@ static int write_points(const char *path, const scene_points *pts, int xyz)
         }
     } else {
         fputs("x,y,z\n", af.fp);
-        for (size_t i = 0; i < pts->count; i++)
-            fprintf(af.fp, "%.6f,%.6f,%.6f\n", (double)pts->xyz[3 * i], (double)pts->xyz[3 * i + 1],
-                    (double)pts->xyz[3 * i + 2]);
+        for (size_t i = 0; i < pts->count; i++) {
+            char num[3][64];
+            for (int a = 0; a < 3; a++) {
+                snprintf(num[a], sizeof num[a], "%.6f", (double)pts->xyz[3 * i + a]);
+                if (strcmp(num[a], "-0.000000") == 0) /* no negative zeros in the files */
+                    strcpy(num[a], "0.000000");
+            }
+            fprintf(af.fp, "%s,%s,%s\n", num[0], num[1], num[2]);
+        }
     }
     if (jmf_atomic_commit(&af, err, sizeof err) != JMF_OK) {
         fprintf(stderr, "jetmesh generate: %s\n", err);
