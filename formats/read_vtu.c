@@ -451,10 +451,11 @@ static jmf_status block_stream(vtu *v, src *s, size_t bytes, size_t file_base, u
             st = read_header_word(v, s, &csize[i], "compressed block size", file_base);
             if (st) { free(csize); return st; }
             if (csize[i] > src_avail(s)) {
+                unsigned long long c = (unsigned long long)csize[i];
                 free(csize);
                 return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(file_base + src_at(s)),
                                 "truncated %s: block %llu of %llu compressed bytes does not fit in the %zu bytes left",
-                                what, (unsigned long long)i, (unsigned long long)csize[i], src_avail(s));
+                                what, (unsigned long long)i, c, src_avail(s));
             }
             if (csize[i] > maxc) maxc = (size_t)csize[i];
         }
