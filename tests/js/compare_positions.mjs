@@ -26,40 +26,57 @@ async function load(file) {
 }
 
 // Largest over the points of a of the per-axis (Chebyshev) distance to the
-// nearest point of b, found through a hash grid of cell size >= tol.
+// nearest point of b, found through a hash grid of cell size >= tol (points
+// further than one cell away count as Infinity).
 function maxNearest(a, b, tol) {
-  const h = Math.max(tol, 1e-12);
-  const key = (x, y, z) => `${x},${y},${z}`;
+  let h = Math.max(tol, 1e-12);
+  const lo = [Infinity, Infinity, Infinity];
+  const hi = [-Infinity, -Infinity, -Infinity];
+  for (const p of [a, b])
+    for (let i = 0; i < p.length; i++) {
+      lo[i % 3] = Math.min(lo[i % 3], p[i]);
+      hi[i % 3] = Math.max(hi[i % 3], p[i]);
+    }
+  // Exact integer keys: at most 2^17 cells per axis.
+  h = Math.max(h, ...[0, 1, 2].map((k) => (hi[k] - lo[k]) / 131000));
+  const n = [0, 1, 2].map((k) => Math.floor((hi[k] - lo[k]) / h) + 3);
+  const cell = (x, k) => Math.floor((x - lo[k]) / h) + 1;
+  const key = (ix, iy, iz) => ix + n[0] * (iy + n[1] * iz);
   const grid = new Map();
   for (let i = 0; i < b.length / 3; i++) {
-    const k = key(Math.floor(b[3 * i] / h), Math.floor(b[3 * i + 1] / h), Math.floor(b[3 * i + 2] / h));
-    let list = grid.get(k);
-    if (!list) grid.set(k, (list = []));
-    list.push(i);
+    const k = key(cell(b[3 * i], 0), cell(b[3 * i + 1], 1), cell(b[3 * i + 2], 2));
+    const list = grid.get(k);
+    if (list) list.push(i);
+    else grid.set(k, [i]);
   }
   let worst = 0;
   const axis = [0, 0, 0];
   for (let i = 0; i < a.length / 3; i++) {
     const x = a[3 * i], y = a[3 * i + 1], z = a[3 * i + 2];
-    const cx = Math.floor(x / h), cy = Math.floor(y / h), cz = Math.floor(z / h);
-    let best = Infinity;
-    let bestAxis = null;
-    for (let dx = -1; dx <= 1; dx++)
+    const cx = cell(x, 0), cy = cell(y, 1), cz = cell(z, 2);
+    let best = Infinity, bx = 0, by = 0, bz = 0;
+    for (let dz = -1; dz <= 1; dz++)
       for (let dy = -1; dy <= 1; dy++)
-        for (let dz = -1; dz <= 1; dz++) {
+        for (let dx = -1; dx <= 1; dx++) {
           const list = grid.get(key(cx + dx, cy + dy, cz + dz));
           if (!list) continue;
           for (const j of list) {
-            const e = [Math.abs(b[3 * j] - x), Math.abs(b[3 * j + 1] - y), Math.abs(b[3 * j + 2] - z)];
-            const d = Math.max(...e);
+            const ex = Math.abs(b[3 * j] - x), ey = Math.abs(b[3 * j + 1] - y), ez = Math.abs(b[3 * j + 2] - z);
+            const d = ex > ey ? (ex > ez ? ex : ez) : ey > ez ? ey : ez;
             if (d < best) {
               best = d;
-              bestAxis = e;
+              bx = ex;
+              by = ey;
+              bz = ez;
             }
           }
         }
     if (best > worst) worst = best;
-    if (bestAxis) for (let k = 0; k < 3; k++) axis[k] = Math.max(axis[k], bestAxis[k]);
+    if (best < Infinity) {
+      axis[0] = Math.max(axis[0], bx);
+      axis[1] = Math.max(axis[1], by);
+      axis[2] = Math.max(axis[2], bz);
+    }
   }
   return { worst, axis };
 }
@@ -82,8 +99,8 @@ async function main() {
     a_points: a.length / 3,
     b_points: b.length / 3,
     tol,
-    max_error_a_to_b: ab.worst === Infinity ? 'none within tol' : ab.worst,
-    max_error_b_to_a: ba.worst === Infinity ? 'none within tol' : ba.worst,
+    max_error_a_to_b: ab.worst === Infinity ? 'none nearby' : ab.worst,
+    max_error_b_to_a: ba.worst === Infinity ? 'none nearby' : ba.worst,
     max_axis_error: ab.axis.map((e, k) => Math.max(e, ba.axis[k])),
   };
   out.ok = out.a_points === out.b_points && ab.worst <= tol && ba.worst <= tol;

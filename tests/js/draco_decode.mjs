@@ -1,6 +1,6 @@
 // draco_decode.mjs - decodes a .drc file, or the Draco primitive of a .glb/.gltf, with draco3d and prints a JSON summary.
 //
-// Usage: node draco_decode.mjs FILE [--positions OUT.f32]
+// Usage: node draco_decode.mjs FILE [--positions OUT.f32] [--extract OUT.drc]
 // Prints one JSON object: points, faces, the attributes (Draco type, unique
 // id, components), the positions' bounding box, how many faces collapsed to
 // zero area in decoding, and for glTF/GLB the checks of the
@@ -8,7 +8,9 @@
 // (extension declared and required, bufferView present, every attribute id
 // found in the Draco data, accessors without bufferView whose counts match
 // the decoded data). --positions writes the decoded positions as raw
-// little-endian float32 x y z. Exit status 1 when decoding or a check fails.
+// little-endian float32 x y z; --extract writes the Draco bytes of a
+// glTF/GLB primitive as a bare .drc (for Draco's own draco_decoder).
+// Exit status 1 when decoding or a check fails.
 import { readFile, writeFile } from 'node:fs/promises';
 import path from 'node:path';
 import draco3d from 'draco3d';
@@ -91,8 +93,10 @@ async function main() {
   const file = args[0];
   const pi = args.indexOf('--positions');
   const dumpTo = pi > 0 ? args[pi + 1] : null;
-  if (!file || (pi > 0 && !dumpTo)) {
-    console.error('usage: node draco_decode.mjs FILE.drc|FILE.glb|FILE.gltf [--positions OUT.f32]');
+  const xi = args.indexOf('--extract');
+  const extractTo = xi > 0 ? args[xi + 1] : null;
+  if (!file || (pi > 0 && !dumpTo) || (xi > 0 && !extractTo)) {
+    console.error('usage: node draco_decode.mjs FILE.drc|FILE.glb|FILE.gltf [--positions OUT.f32] [--extract OUT.drc]');
     return 2;
   }
   const bytes = new Uint8Array(await readFile(file));
@@ -113,6 +117,8 @@ async function main() {
     console.log(JSON.stringify(out));
     return 1;
   }
+
+  if (extractTo) await writeFile(extractTo, data);
 
   const M = await draco3d.createDecoderModule({});
   const decoder = new M.Decoder();
