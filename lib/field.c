@@ -201,9 +201,14 @@ int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
         out[1] = -gr[1];
         out[2] = -gr[2];
     } else {
+        /* The metasphere is a union, so its gradient jumps where two pieces
+         * meet. Pieces within tau of the maximum share the normal, weighted
+         * linearly: the analytic gradient wherever one piece dominates, a
+         * blend of the one-sided gradients along creases. */
+        const float best = jm_field_value(g, c, hood, p);
+        const float tau = 0.1f * c->h / c->r;
         const float r = c->r, inv_r = 1.0f / r;
         const float reach = 1.5708f * r + 1e-3f * r, reach2 = reach * reach;
-        float best = -INFINITY;
         HOOD_NEAR(g, hood, p, {
             const float *q = GP(g, j);
             float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
@@ -211,10 +216,9 @@ int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
             if (d2 < reach2) {
                 float d = sqrtf(d2);
                 float v = 1.0f - d * inv_r;
-                if (v > best && d > 0.0f) {
-                    best = v;
-                    out[0] = w[0]; out[1] = w[1]; out[2] = w[2];
-                }
+                float wt = 1.0f - (best - v) / tau;
+                if (wt > 0.0f && d > 0.0f)
+                    for (int a = 0; a < 3; a++) out[a] += wt * w[a] / d;
                 for (uint32_t e = g->nb_start[j]; e < g->nb_start[j + 1]; e++) {
                     const float *o = GP(g, g->nb[e]);
                     float u[3] = {o[0] - q[0], o[1] - q[1], o[2] - q[2]};
@@ -225,10 +229,13 @@ int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
                     float rad[3] = {w[0] - s * u[0], w[1] - s * u[1], w[2] - s * u[2]};
                     float qq = sqrtf(rad[0] * rad[0] + rad[1] * rad[1] + rad[2] * rad[2]);
                     float nv = cosf(s * inv_r) - qq * inv_r;
-                    if (nv > best && qq > 0.0f) {
-                        best = nv;
+                    float nw = 1.0f - (best - nv) / tau;
+                    if (nw > 0.0f && qq > 0.0f) {
                         float sn = sinf(s * inv_r);
-                        for (int a = 0; a < 3; a++) out[a] = sn * u[a] + rad[a] / qq;
+                        float g3[3], gl = 0.0f;
+                        for (int a = 0; a < 3; a++) { g3[a] = sn * u[a] + rad[a] / qq; gl += g3[a] * g3[a]; }
+                        gl = 1.0f / sqrtf(gl);
+                        for (int a = 0; a < 3; a++) out[a] += nw * g3[a] * gl;
                     }
                 }
             }

@@ -119,6 +119,25 @@ static const int faces[6][4] = {
     {4, 5, 7, 6}, /* z = 1, normal +z */
 };
 
+/* bit f set: cube edge e lies on face f (0 x=0, 1 x=1, 2 y=0, 3 y=1, 4 z=0, 5 z=1) */
+static int face_mask(int e)
+{
+    int a = jm_cube_edge_corner[e];
+    const int *d = jm_dir[jm_cube_edge_dir[e]];
+    int m = 0;
+    for (int ax = 0; ax < 3; ax++)
+        if (!d[ax]) m |= 1 << (2 * ax + ((a >> ax) & 1));
+    return m;
+}
+
+/* 0 if some polygon had no fan free of in-face diagonals (checked by tests) */
+static int table_ok = 1;
+int jm_tables_consistent(void)
+{
+    jm_table_mc();
+    return table_ok;
+}
+
 static void build_mc(void)
 {
     for (int cfg = 0; cfg < 256; cfg++) {
@@ -151,11 +170,22 @@ static void build_mc(void)
             if (next[s] < 0 || used[s]) continue;
             int cyc[12], n = 0, e = s;
             while (!used[e]) { used[e] = 1; cyc[n++] = e; e = next[e]; }
+            /* Fan from a corner whose diagonals all cross the cube's inside:
+             * a diagonal between two vertices on one face would lie in that
+             * face, where the neighbouring cube may build the same triangle
+             * facing the other way (a doubled, non-manifold sheet). */
+            int start = 0;
+            for (int k = 0; k < n; k++) {
+                int good = 1;
+                for (int d = 2; d + 1 < n && good; d++) good = !(face_mask(cyc[k]) & face_mask(cyc[(k + d) % n]));
+                if (good) { start = k; break; }
+                if (k == n - 1) table_ok = 0;
+            }
             for (int k = 1; k + 1 < n; k++) {
                 uint8_t *dst = &mc_table.edges[cfg][3 * mc_table.ntri[cfg]];
-                dst[0] = (uint8_t)cyc[0];
-                dst[1] = (uint8_t)cyc[k];
-                dst[2] = (uint8_t)cyc[k + 1];
+                dst[0] = (uint8_t)cyc[start];
+                dst[1] = (uint8_t)cyc[(start + k) % n];
+                dst[2] = (uint8_t)cyc[(start + k + 1) % n];
                 mc_table.ntri[cfg]++;
             }
         }

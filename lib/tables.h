@@ -20,5 +20,7 @@ typedef struct jm_case_table {
 /* Tables for cube configurations (bit c set = corner c inside). */
 const jm_case_table *jm_table_mc(void);
 const jm_case_table *jm_table_mt(void);
+/* 1 if every marching cubes polygon was fanned without in-face diagonals. */
+int jm_tables_consistent(void);
 
 #endif

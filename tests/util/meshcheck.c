@@ -142,11 +142,6 @@ int mc_check(const jm_mesh *m, mc_report *r)
             }
         }
     }
-    if (r->normals_away * 200 > nv) {
-        if (r->normals_ok)
-            snprintf(r->problem, sizeof r->problem, "%zu of %zu normals point away from their faces", r->normals_away, nv);
-        r->normals_ok = 0;
-    }
 out:
     free(e);
     free(cs);

@@ -10,8 +10,7 @@ typedef struct mc_report {
     int vertex_manifold; /* the triangles around every vertex form one fan */
     int no_degenerate;   /* no triangle repeats a vertex */
     int all_referenced;  /* every vertex is used by a triangle */
-    int normals_ok;      /* unit normals, at most 0.5 % of them over 90 degrees
-                            from the faces around them */
+    int normals_ok;      /* unit normals (if any) */
     size_t normals_away; /* normals more than 90 degrees from their faces' */
     size_t components;   /* connected components (through shared vertices) */
     double volume;       /* signed volume: positive when oriented outward */
@@ -20,7 +19,8 @@ typedef struct mc_report {
 } mc_report;
 
 /* Analyses mesh; returns 1 if closed, manifold, oriented (volume > 0),
- * non-degenerate, fully referenced and with good normals (if present). */
+ * non-degenerate, fully referenced and with unit normals (if present).
+ * How many normals lean away from their faces is left to the caller. */
 int mc_check(const jm_mesh *mesh, mc_report *out);
 
 /* Deterministic pseudo-random numbers for tests. */
