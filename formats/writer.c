@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include "atomic_file.h"
 #include "draco_wrap.h"
@@ -198,6 +199,11 @@ jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
     if (err && errlen) err[0] = '\0';
     if (!path || !*path) {
         snprintf(err, errlen, "no output path");
+        return JMF_E_IO;
+    }
+    struct stat sb;
+    if (path[strlen(path) - 1] == '/' || (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))) {
+        snprintf(err, errlen, "%s: is a directory", path);
         return JMF_E_IO;
     }
     if (!mesh || (mesh->vertex_count && !mesh->positions) ||
