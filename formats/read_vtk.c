@@ -33,7 +33,13 @@ static jmr_at here_at(const vt *v, size_t pos, size_t line)
     return v->binary ? jmr_byte(pos) : jmr_line(line);
 }
 static jmr_at at_tok(const vt *v, const tok *t) { return here_at(v, t->pos, t->line); }
-static jmr_at at_now(const vt *v) { return here_at(v, v->pos, v->line); }
+static jmr_at at_now(const vt *v)
+{
+    /* at the end of a file that ends with a newline, name its last line */
+    size_t line = v->line;
+    if (v->pos >= v->n && v->n > 0 && v->d[v->n - 1] == '\n' && line > 1) line--;
+    return here_at(v, v->pos, line);
+}
 
 #define SHOW(t) (int)((t).n > 40 ? 40 : (t).n), (t).s
 
@@ -224,7 +230,7 @@ static int peek_kw(vt *v, const char *kw, tok *t)
 }
 
 /* CELLS-like section "KW a b": legacy b int32 values, or 5.x OFFSETS (a) + CONNECTIVITY (b). */
-static jmf_status cells(vt *v, const char *kw)
+static jmf_status cells(vt *v, const char *kw, size_t *ncells)
 {
     size_t a, b;
     tok t;
@@ -234,7 +240,9 @@ static jmf_status cells(vt *v, const char *kw)
     if (st) return st;
     st = end_line(v, kw);
     if (st) return st;
+    *ncells = a;
     if (peek_kw(v, "OFFSETS", &t)) {
+        *ncells = a ? a - 1 : 0; /* 5.x: a offsets for a - 1 cells */
         st = typed_values(v, a, SINK_NONE, NULL, "OFFSETS");
         if (st) return st;
         if (!peek_kw(v, "CONNECTIVITY", &t))
@@ -314,8 +322,8 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
     static const char magic[] = "# vtk DataFile Version";
     vt v = { data, size, 0, 1, 0, ctx };
     tok t, dataset = { "", 0, 0, 0 };
-    size_t npoints = 0, attr_count = 0;
-    int have_points = 0, have_dataset = 0, mode = 0; /* 1 point data, 2 cell data */
+    size_t npoints = 0, attr_count = 0, ncells = 0;
+    int have_points = 0, have_cells = 0, have_dataset = 0, mode = 0; /* 1 point data, 2 cell data */
     jmf_status st;
 
     /* line 1: magic and version */
@@ -372,7 +380,11 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             st = typed_values(&v, nvals, SINK_POINTS, pts, "POINTS");
         } else if (jmr_ieq(t.s, t.n, "CELLS") || jmr_ieq(t.s, t.n, "VERTICES") || jmr_ieq(t.s, t.n, "LINES") ||
                    jmr_ieq(t.s, t.n, "POLYGONS") || jmr_ieq(t.s, t.n, "TRIANGLE_STRIPS")) {
-            st = cells(&v, jmr_ieq(t.s, t.n, "CELLS") ? "CELLS" : "the cell section");
+            size_t nc = 0;
+            st = cells(&v, jmr_ieq(t.s, t.n, "CELLS") ? "CELLS" : "the cell section", &nc);
+            if (!jmr_add(ncells, nc, &ncells))
+                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "cell count overflows");
+            have_cells = 1;
         } else if (jmr_ieq(t.s, t.n, "CELL_TYPES")) {
             size_t n;
             st = line_size(&v, "a cell count", &n);
@@ -387,6 +399,9 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             if (mode == 1 && have_points && attr_count != npoints)
                 return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "POINT_DATA %zu; expected %zu as in POINTS",
                                 attr_count, npoints);
+            if (mode == 2 && have_cells && attr_count != ncells)
+                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "CELL_DATA %zu; expected %zu as in the cells",
+                                attr_count, ncells);
             st = end_line(&v, mode == 1 ? "POINT_DATA" : "CELL_DATA");
         } else if (jmr_ieq(t.s, t.n, "FIELD")) {
             /* dataset-level FIELD arrays have their own tuple counts */

@@ -1,0 +1,10 @@
+/* fuzz_vtu.c - libFuzzer target: the VTU reader (format forced) through jmf_read_particles_mem. */
+#include "fuzz_common.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fuzz_read(data, size, JMF_IN_VTU, "particles.vtu");
+    return 0;
+}
