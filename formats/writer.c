@@ -49,8 +49,8 @@ int jmf_output_format_for(const char *path, const jmf_write_options *opt, int *o
             f = g > 0 ? g : -1;
         }
     }
-    if (f == JMF_OUT_DRC) draco = 1;
-    if (out_draco) *out_draco = f < 0 ? 0 : draco;
+    /* Only glTF and GLB have a Draco variant; a .drc is Draco by itself. */
+    if (out_draco) *out_draco = (f == JMF_OUT_GLTF || f == JMF_OUT_GLB) ? draco : 0;
     return f;
 }
 
@@ -224,7 +224,7 @@ jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
                  ".ply or .vtk, or name the format)", path);
         return JMF_E_UNSUPPORTED;
     }
-    if (draco && f != JMF_OUT_GLTF && f != JMF_OUT_GLB && f != JMF_OUT_DRC) {
+    if (opt && opt->draco && f != JMF_OUT_GLTF && f != JMF_OUT_GLB && f != JMF_OUT_DRC) {
         snprintf(err, errlen, "%s: Draco compression applies to glTF, GLB and .drc only, not %s",
                  path, jmf_output_format_name((jmf_output_format)f));
         return JMF_E_UNSUPPORTED;

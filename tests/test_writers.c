@@ -179,7 +179,11 @@ static void test_format_names(void **state)
     assert_int_equal(jmf_output_format_for("x.draco.gltf", NULL, &d), JMF_OUT_GLTF);
     assert_int_equal(d, 1);
     assert_int_equal(jmf_output_format_for("x.drc", NULL, &d), JMF_OUT_DRC);
-    assert_int_equal(d, 1);
+    assert_int_equal(d, 0); /* Draco by itself, not the glTF extension */
+    o.draco = 1;
+    assert_int_equal(jmf_output_format_for("x.obj", &o, &d), JMF_OUT_OBJ);
+    assert_int_equal(d, 0);
+    o.draco = 0;
     assert_int_equal(jmf_output_format_for("x.ply", NULL, &d), JMF_OUT_PLY);
     assert_int_equal(jmf_output_format_for("x.vtk", NULL, &d), JMF_OUT_VTK);
     assert_int_equal(jmf_output_format_for("x.txt", NULL, &d), -1);
