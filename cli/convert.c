@@ -65,6 +65,14 @@ static int plan_outputs(run *r)
                                            "%s exists and is not a directory: with several "
                                            "frames, OUTPUT is a directory or a template with {}",
                                            o->output);
+            jmf_write_options autodetect;
+            memset(&autodetect, 0, sizeof autodetect);
+            int d = 0;
+            if (jmf_output_format_for(o->output, &autodetect, &d) >= 0)
+                return options_usage_error("convert",
+                                           "%zu frames cannot all be written to the one file %s: "
+                                           "give a directory or a template with {}",
+                                           n, o->output);
             as_dir = 1;
         }
     }

@@ -51,7 +51,8 @@ static int help(const char *cmd)
 int main(int argc, char **argv)
 {
     if (argc < 2) {
-        usage(stderr);
+        fprintf(stderr, "jetmesh: no command: give convert, generate, bench or help\n"
+                        "Try 'jetmesh --help' for more information.\n");
         return 2;
     }
     const char *cmd = argv[1];
