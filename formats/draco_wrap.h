@@ -10,13 +10,18 @@
 extern "C" {
 #endif
 
-/* Defaults (used for fields <= 0). Positions get 16 bits: over the mesh's
- * largest extent L that is a step of L/65535, far below the lattice spacing
- * of any mesh jetmesh can produce, so neighbouring vertices stay apart.
- * Normals get 10 bits (octahedral, under 0.2 degrees) and uvs 12. Speed 5
- * is the fastest setting that still uses the Edgebreaker connectivity
- * coder with parallelogram prediction; with any speed the face list is
- * preserved exactly (quantization moves vertices, never merges them). */
+/* Defaults (used for fields <= 0). Draco quantizes positions on one grid
+ * over the mesh's largest extent L, so 16 bits is a step of L/65535 (error
+ * at most half that per axis); normals get 10 bits (octahedral, about 0.1
+ * degree) and uvs 12. Speed 5 is the fastest setting that keeps the
+ * standard Edgebreaker connectivity coder with parallelogram prediction;
+ * speeds 0-4 (the valence coder) are about 10% smaller but slower. The
+ * speed never changes the geometry: the face list is kept exactly at every
+ * speed, and whether a sliver triangle collapses (two corners on the same
+ * grid point) depends on the position bits alone. Measured on the jet
+ * sample (frame 99, -r 0.025 -c 0.25: 76730 vertices, shortest edge
+ * 1.5e-5 over L = 4.7): 259 of 153412 triangles collapse at 16 bits at
+ * every speed 0-10, 2 at 18 bits, none at 20 bits (27% larger file). */
 #define JMF_DRACO_POSITION_BITS 16
 #define JMF_DRACO_NORMAL_BITS 10
 #define JMF_DRACO_UV_BITS 12
