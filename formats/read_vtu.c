@@ -63,6 +63,7 @@ typedef struct vtu {
     int appended_b64;
     size_t appended; /* first byte after '_' */
     int have_appended;
+    size_t decoded, decoded_max; /* bytes decoded so far, and the cap for all arrays together */
 } vtu;
 
 static int tag_is(const xtag *t, const char *name)
@@ -398,9 +399,10 @@ static jmf_status block_stream(vtu *v, src *s, size_t bytes, size_t file_base, u
     jmf_status st;
     size_t at = file_base + src_at(s);
     *out = NULL;
-    if (bytes > jmr_max_decoded(ctx))
-        return jmr_fail(ctx, JMF_E_LIMIT, jmr_byte(at), "%s: %zu decoded bytes exceed the limit of %zu", what, bytes,
-                        jmr_max_decoded(ctx));
+    if (bytes > v->decoded_max - v->decoded)
+        return jmr_fail(ctx, JMF_E_LIMIT, jmr_byte(at), "%s: %zu more decoded bytes exceed the limit of %zu", what,
+                        bytes, v->decoded_max);
+    v->decoded += bytes;
     if (!v->zlib) {
         st = read_header_word(v, s, &w, "byte count", file_base);
         if (st) return st;
@@ -618,6 +620,9 @@ jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
     v.x.n = size;
     v.x.ctx = ctx;
     v.hsize = 4;
+    /* zlib cannot expand more than ~1032:1, so no real file decodes to more than this */
+    v.decoded_max = jmr_max_decoded(ctx);
+    if (size < (v.decoded_max - (1u << 20)) / 1100) v.decoded_max = size * 1100 + (1u << 20);
     pieces = calloc(MAX_PIECES, sizeof *pieces);
     if (!pieces) return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory");
 

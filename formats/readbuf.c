@@ -2,6 +2,7 @@
 #include "readbuf.h"
 
 #include <errno.h>
+#include <float.h>
 #include <locale.h>
 #include <math.h>
 #include <stdarg.h>
@@ -204,10 +205,19 @@ jmf_status jmr_points_want_ids(jmr_points *pts, const jmr_ctx *ctx)
     return JMF_OK;
 }
 
+/* double -> float without relying on out-of-range conversions: too big becomes +-inf. */
+static float to_float(double v)
+{
+    if (isnan(v)) return NAN;
+    if (v > FLT_MAX) return INFINITY;
+    if (v < -FLT_MAX) return -INFINITY;
+    return (float)v;
+}
+
 jmf_status jmr_points_add(jmr_points *pts, const jmr_ctx *ctx, double x, double y, double z,
                           uint32_t id, jmr_at at)
 {
-    float fx = (float)x, fy = (float)y, fz = (float)z;
+    float fx = to_float(x), fy = to_float(y), fz = to_float(z);
     float *p;
     if (!isfinite(fx) || !isfinite(fy) || !isfinite(fz)) {
         if (!ctx->opt->drop_invalid)

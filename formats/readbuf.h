@@ -102,16 +102,6 @@ double jmr_load(const uint8_t *p, jmr_type t, int big_endian);
 /** Loads one integer value; *ok = 0 if it is negative (64-bit values above INT64_MAX load fine). */
 uint64_t jmr_load_u64(const uint8_t *p, jmr_type t, int big_endian, int *ok);
 
-/* ---- bounds-checked byte cursor ---- */
-typedef struct jmr_cur {
-    const uint8_t *p;
-    size_t size;
-    size_t pos;
-} jmr_cur;
-
-static inline size_t jmr_left(const jmr_cur *c) { return c->size - c->pos; }
-static inline int jmr_has(const jmr_cur *c, size_t n) { return n <= c->size - c->pos; }
-
 /* ---- text helpers (bounded; the buffers are not NUL-terminated) ---- */
 static inline int jmr_isspace(int c)
 {
