@@ -611,7 +611,7 @@ jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
     vtu v;
     xtag t;
     piece *pieces = NULL;
-    size_t npieces = 0, i;
+    size_t npieces = 0, cap = 0, i;
     int got, in_points = 0, in_pointdata = 0, in_piece = 0, have_file = 0, closed = 0, any_ids = 0;
     jmf_status st = JMF_OK;
 
@@ -623,8 +623,6 @@ jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
     /* zlib cannot expand more than ~1032:1, so no real file decodes to more than this */
     v.decoded_max = jmr_max_decoded(ctx);
     if (size < (v.decoded_max - (1u << 20)) / 1100) v.decoded_max = size * 1100 + (1u << 20);
-    pieces = calloc(MAX_PIECES, sizeof *pieces);
-    if (!pieces) return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory");
 
     while (!st) {
         st = next_tag(&v.x, &t, &got);
@@ -681,7 +679,18 @@ jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                 st = jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t.pos), "more than %d pieces", MAX_PIECES);
                 break;
             }
+            if (npieces == cap) {
+                piece *np;
+                cap = cap ? 2 * cap : 4;
+                np = realloc(pieces, cap * sizeof *pieces);
+                if (!np) {
+                    st = jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for %zu pieces", cap);
+                    break;
+                }
+                pieces = np;
+            }
             pc = &pieces[npieces++];
+            memset(pc, 0, sizeof *pc);
             pc->tagpos = t.pos;
             if (!attr_size(attr(&t, "NumberOfPoints"), &pc->npoints)) {
                 st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t.pos), "Piece without a valid NumberOfPoints");
