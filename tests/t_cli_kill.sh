@@ -1,0 +1,160 @@
+#!/bin/sh
+# t_cli_kill.sh - SIGTERM/SIGHUP/SIGKILL mid-run never leave a truncated output or a leftover taken for a complete mesh.
+set -u
+ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
+J=${JETMESH:-$ROOT/build/jetmesh}
+S=$ROOT/samples/jet
+fail() { echo "FAIL: $*"; exit 1; }
+[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
+T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-kill.XXXXXX") || exit 1
+pid=""
+cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$T"; }
+trap cleanup EXIT
+trap 'exit 1' INT TERM
+
+temps() { # dir: the atomic writer's temporaries in it
+    ls -A "$1" | grep 'jetmesh-tmp' || true
+}
+
+# the previous good output, and a large input (a block meshes into a big mesh)
+"$J" convert "$S/jet_099.csv" -r 0.025 -q -o "$T/big.obj" || fail "setup: convert"
+cp "$T/big.obj" "$T/good.obj"
+"$J" generate block 4000 -q -o "$T/block.csv" || fail "setup: generate"
+
+# Starts the big conversion to $T/big.obj in the background; sets pid.
+start_big() {
+    "$J" convert "$T/block.csv" -r 0.025 -o "$T/big.obj" >"$T/out" 2>"$T/err" &
+    pid=$!
+}
+# Waits up to ~20 s for the temporary of big.obj to appear (the write stage);
+# returns 1 if the process ended first.
+await_temp() {
+    i=0
+    while [ $i -lt 1000 ]; do
+        [ -n "$(temps "$T")" ] && return 0
+        kill -0 "$pid" 2>/dev/null || return 1
+        sleep 0.02
+        i=$((i + 1))
+    done
+    return 1
+}
+# After a run that ended normally: the output must be the complete new mesh.
+check_complete() {
+    line=$(grep '^frame ' "$T/out") || { cat "$T/out" "$T/err"; fail "no frame line"; }
+    t=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) triangles.*/\1/p')
+    [ "$(grep -c '^f ' "$T/big.obj")" = "$t" ] || fail "big.obj is not the complete mesh"
+    "$J" convert "$S/jet_099.csv" -r 0.025 -q -o "$T/big.obj" || fail "restore"
+}
+
+# 1. SIGTERM while the output is being written
+start_big
+if await_temp; then
+    kill -TERM "$pid"
+    wait "$pid"
+    st=$?
+    pid=""
+    if [ "$st" = 143 ]; then
+        [ -z "$(temps "$T")" ] || fail "SIGTERM left a temporary: $(temps "$T")"
+        cmp -s "$T/big.obj" "$T/good.obj" || fail "SIGTERM during the write changed the existing output"
+        echo "ok: SIGTERM while writing: exit 143, no temporary, previous output intact"
+    else
+        [ "$st" = 0 ] || { cat "$T/err"; fail "exit $st after SIGTERM"; }
+        check_complete
+        echo "note: the conversion finished before SIGTERM landed; output complete"
+    fi
+else
+    wait "$pid"
+    pid=""
+    check_complete
+    echo "note: no write stage seen (too fast); output complete"
+fi
+
+# 2. SIGHUP while meshing (before any output is opened)
+start_big
+sleep 0.2
+if [ -z "$(temps "$T")" ] && kill -HUP "$pid" 2>/dev/null; then
+    wait "$pid"
+    st=$?
+    pid=""
+    [ "$st" = 129 ] || [ "$st" = 0 ] || fail "exit $st after SIGHUP"
+    [ -z "$(temps "$T")" ] || fail "SIGHUP left a temporary: $(temps "$T")"
+    if [ "$st" = 129 ]; then
+        cmp -s "$T/big.obj" "$T/good.obj" || fail "SIGHUP while meshing changed the existing output"
+        echo "ok: SIGHUP while meshing: exit 129, previous output intact"
+    fi
+else
+    wait "$pid"
+    pid=""
+fi
+[ -z "$(temps "$T")" ] || fail "temporary left: $(temps "$T")"
+cmp -s "$T/big.obj" "$T/good.obj" || check_complete
+
+# 3. SIGKILL while writing: no cleanup possible, but the target is the
+#    previous good file, and the leftover is a hidden temporary that never
+#    takes the target's name
+start_big
+if await_temp; then
+    kill -KILL "$pid"
+    wait "$pid"
+    st=$?
+    pid=""
+    if [ "$st" = 137 ]; then
+        cmp -s "$T/big.obj" "$T/good.obj" || fail "SIGKILL during the write changed the existing output"
+        for f in $(temps "$T"); do
+            case "$f" in .big.obj.jetmesh-tmp-*) ;; *) fail "unexpected leftover $f" ;; esac
+        done
+        rm -f "$T"/.big.obj.jetmesh-tmp-*
+        echo "ok: SIGKILL while writing: previous output intact, leftover is a hidden temporary"
+    else
+        check_complete
+    fi
+else
+    wait "$pid"
+    pid=""
+    check_complete
+fi
+
+# 4. a sequence killed with SIGKILL, then --resume: every output that exists
+#    is complete, and the resumed run gives exactly the uninterrupted result
+"$J" convert "$S/jet_{}.csv" --frames 60:99 -r 0.025 -q -o "$T/ref/" --format ply || fail "reference run"
+"$J" convert "$S/jet_{}.csv" --frames 60:99 -r 0.025 -o "$T/seq/" --format ply >"$T/out" 2>"$T/err" &
+pid=$!
+i=0
+while [ $i -lt 1000 ] && [ "$(ls "$T/seq" 2>/dev/null | wc -l)" -lt 5 ] && kill -0 "$pid" 2>/dev/null; do
+    sleep 0.01
+    i=$((i + 1))
+done
+kill -KILL "$pid" 2>/dev/null
+wait "$pid"
+pid=""
+n=$(ls "$T/seq" | wc -l)
+for f in $(ls "$T/seq"); do
+    cmp -s "$T/seq/$f" "$T/ref/$f" || fail "killed run left an incomplete $f"
+done
+"$J" convert "$S/jet_{}.csv" --frames 60:99 -r 0.025 -o "$T/seq/" --format ply --resume >"$T/out" 2>"$T/err" ||
+    { cat "$T/err"; fail "--resume after SIGKILL"; }
+[ "$(grep -c 'skipped' "$T/out")" -ge "$n" ] || fail "--resume did not skip the $n complete outputs"
+[ "$(ls "$T/seq" | wc -l)" = 40 ] || fail "expected 40 outputs after --resume"
+for f in $(ls "$T/ref"); do
+    cmp -s "$T/seq/$f" "$T/ref/$f" || fail "$f differs from the uninterrupted run"
+done
+echo "ok: SIGKILL mid-sequence ($n of 40 done), --resume completes it identically"
+
+# 5. SIGTERM mid-sequence: exit 143, no temporary, finished outputs complete
+rm -rf "$T/seq"
+"$J" convert "$S/jet_{}.csv" --frames 60:99 -r 0.025 -o "$T/seq/" --format ply >"$T/out" 2>"$T/err" &
+pid=$!
+i=0
+while [ $i -lt 1000 ] && [ "$(ls "$T/seq" 2>/dev/null | wc -l)" -lt 3 ] && kill -0 "$pid" 2>/dev/null; do
+    sleep 0.01
+    i=$((i + 1))
+done
+kill -TERM "$pid" 2>/dev/null
+wait "$pid"
+st=$?
+pid=""
+[ "$st" = 143 ] || [ "$st" = 0 ] || fail "exit $st after SIGTERM"
+[ -z "$(temps "$T/seq")" ] || fail "SIGTERM left a temporary: $(temps "$T/seq")"
+for f in $(ls "$T/seq"); do cmp -s "$T/seq/$f" "$T/ref/$f" || fail "incomplete $f after SIGTERM"; done
+echo "ok: SIGTERM mid-sequence (exit $st): $(ls "$T/seq" | wc -l) complete outputs, no temporary"
+echo "all kill checks passed"
