@@ -2,6 +2,7 @@
 #include "gltf_wrap.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -124,7 +125,8 @@ std::string uri_encode(const char *s)
 
 struct Built {
     MallocBuf main;
-    std::vector<unsigned char> bin; // SEPARATE: the .bin contents
+    std::vector<unsigned char> bin; // the .bin, or the GLB's BIN chunk
+    size_t bin_pad = 0;             // GLB: zero bytes after bin
 };
 
 jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
@@ -298,42 +300,76 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
 
     tinygltf::TinyGLTF gltf;
     std::ostream os(&built.main);
-    size_t room = buf.size() + 65536;
-    if (p->container == JMF_GLTF_EMBEDDED) room += buf.size() / 3 + buf.size();
-    built.main.reserve(room);
     bool ok = true;
-    if (p->container == JMF_GLTF_SEPARATE && !buf.empty()) {
-        // tinygltf's stream writer embeds every buffer; the .bin is written
-        // by the caller, so serialize without "buffers" and add it here.
-        const size_t blen = buf.size();
-        ok = gltf.WriteGltfSceneToStream(&m, os, true, false);
-        os.flush();
-        size_t n = 0;
-        unsigned char *d = built.main.release(&n);
-        std::string json(reinterpret_cast<char *>(d), n);
-        std::free(d);
-        const size_t close = json.rfind('}');
-        if (!ok || close == std::string::npos) {
-            std::snprintf(err, errlen, "%s: tinygltf could not serialize the model", name);
-            return JMF_E_FORMAT;
-        }
-        size_t end = close;
-        while (end > 0 && (json[end - 1] == '\n' || json[end - 1] == ' ')) end--;
-        const std::string bufs = ",\n  \"buffers\": [\n    {\n      \"byteLength\": " +
-                                 std::to_string(blen) + ",\n      \"uri\": \"" +
-                                 uri_encode(p->bin_uri ? p->bin_uri : "mesh.bin") +
-                                 "\"\n    }\n  ]\n";
-        json = json.substr(0, end) + bufs + json.substr(close);
-        if (!built.main.reserve(json.size())) ok = false;
-        os.write(json.data(), static_cast<std::streamsize>(json.size()));
-        built.bin.swap(buf);
-    } else {
+    if (p->container == JMF_GLTF_EMBEDDED) {
+        // tinygltf's stream writer embeds the buffer as a base64 data: URI.
+        built.main.reserve(buf.size() / 3 * 4 + buf.size() + 65536);
         if (!buf.empty()) {
             m.buffers.resize(1);
             m.buffers[0].data.swap(buf);
         }
-        ok = gltf.WriteGltfSceneToStream(&m, os, p->container != JMF_GLTF_BINARY,
-                                         p->container == JMF_GLTF_BINARY);
+        ok = gltf.WriteGltfSceneToStream(&m, os, true, false);
+    } else {
+        // The buffer is written by the caller, straight from built.bin (the
+        // .bin, or the GLB's BIN chunk, without the copies tinygltf's GLB
+        // writer would make): serialize the model without "buffers" and add
+        // that entry to the JSON here.
+        MallocBuf text;
+        std::ostream ts(&text);
+        const bool pretty = p->container == JMF_GLTF_SEPARATE;
+        ok = gltf.WriteGltfSceneToStream(&m, ts, pretty, false);
+        ts.flush();
+        size_t n = 0;
+        unsigned char *d = text.release(&n);
+        std::string json(d ? reinterpret_cast<char *>(d) : "", n);
+        std::free(d);
+        const size_t close = json.rfind('}');
+        if (!ok || !ts || close == std::string::npos) {
+            std::snprintf(err, errlen, "%s: tinygltf could not serialize the model", name);
+            return JMF_E_FORMAT;
+        }
+        if (!buf.empty()) {
+            size_t end = close;
+            while (end > 0 && (json[end - 1] == '\n' || json[end - 1] == ' ')) end--;
+            const std::string len = std::to_string(buf.size());
+            const std::string entry =
+                pretty ? ",\n  \"buffers\": [\n    {\n      \"byteLength\": " + len +
+                             ",\n      \"uri\": \"" +
+                             uri_encode(p->bin_uri ? p->bin_uri : "mesh.bin") + "\"\n    }\n  ]\n"
+                       : ",\"buffers\":[{\"byteLength\":" + len + "}]";
+            json = json.substr(0, end) + entry + json.substr(close);
+        }
+        if (p->container == JMF_GLTF_BINARY) {
+            // GLB: 12-byte header, JSON chunk padded with spaces, BIN chunk
+            // padded with zeros (the padding bytes are built.bin_pad).
+            while (json.size() % 4) json += ' ';
+            const size_t bin_padded = (buf.size() + 3) / 4 * 4;
+            const uint64_t total = 12 + 8 + json.size() + (buf.empty() ? 0 : 8 + bin_padded);
+            if (total > 0xffffffffu) {
+                std::snprintf(err, errlen, "%s: mesh too large for GLB (over 4 GiB); use .gltf", name);
+                return JMF_E_LIMIT;
+            }
+            unsigned char head[20];
+            auto put32 = [](unsigned char *q, uint64_t v) {
+                for (int k = 0; k < 4; k++) q[k] = static_cast<unsigned char>(v >> (8 * k));
+            };
+            std::memcpy(head, "glTF", 4);
+            put32(head + 4, 2);
+            put32(head + 8, total);
+            put32(head + 12, json.size());
+            std::memcpy(head + 16, "JSON", 4);
+            os.write(reinterpret_cast<const char *>(head), 20);
+            os.write(json.data(), static_cast<std::streamsize>(json.size()));
+            if (!buf.empty()) {
+                put32(head, bin_padded);
+                std::memcpy(head + 4, "BIN\0", 4);
+                os.write(reinterpret_cast<const char *>(head), 8);
+                built.bin_pad = bin_padded - buf.size();
+            }
+        } else {
+            os.write(json.data(), static_cast<std::streamsize>(json.size()));
+        }
+        built.bin.swap(buf);
     }
     os.flush();
     if (!ok || !os || built.main.failed()) {
@@ -375,6 +411,7 @@ extern "C" jmf_status jmf_gltf_build(const jm_mesh *mesh, const jmf_gltf_params 
     out->main = b->main.release(&out->main_size);
     out->bin = b->bin.data();
     out->bin_size = b->bin.size();
+    out->bin_pad = b->bin_pad;
     out->priv = b;
     return JMF_OK;
 }

@@ -27,12 +27,19 @@ typedef struct jmf_gltf_params {
     const char *name;        /**< the output's name, for messages */
 } jmf_gltf_params;
 
-/** The bytes to write, owned by the builder: free with jmf_gltf_output_free(). */
+/**
+ * The bytes to write, owned by the builder: free with jmf_gltf_output_free().
+ * SEPARATE: main is the .gltf, bin the .bin (bin_size 0: no .bin needed).
+ * EMBEDDED: main is the .gltf, bin is empty.
+ * BINARY: the .glb is main, then bin, then bin_pad zero bytes (main holds
+ * the GLB header, the JSON chunk and the BIN chunk's header).
+ */
 typedef struct jmf_gltf_output {
-    unsigned char *main;     /**< the .gltf JSON or the .glb */
+    unsigned char *main;
     size_t main_size;
-    const unsigned char *bin; /**< SEPARATE: the .bin contents (may be empty: no .bin needed) */
+    const unsigned char *bin;
     size_t bin_size;
+    size_t bin_pad;
     void *priv;
 } jmf_gltf_output;
 

@@ -160,7 +160,20 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
         free(bin_path);
         return st;
     }
-    if (!bin_path || out.bin_size == 0) {
+    if (p.container == JMF_GLTF_BINARY) {
+        static const unsigned char zeros[4];
+        jmf_atomic_file af;
+        st = jmf_atomic_open(&af, path, err, errlen);
+        if (!st) st = jmf_atomic_write(&af, out.main, out.main_size, err, errlen);
+        if (!st) st = jmf_atomic_write(&af, out.bin, out.bin_size, err, errlen);
+        if (!st) st = jmf_atomic_write(&af, zeros, out.bin_pad, err, errlen);
+        if (!st) {
+            st = jmf_atomic_commit(&af, err, errlen);
+            if (!st) *bytes += af.bytes;
+        } else if (af.fp) {
+            jmf_atomic_abort(&af);
+        }
+    } else if (!bin_path || out.bin_size == 0) {
         st = write_bytes(path, out.main, out.main_size, bytes, err, errlen);
     } else {
         /* Both temporaries are complete before either is renamed; the .bin
