@@ -133,6 +133,17 @@ grep -q '(1 dropped)' "$T/out" || fail "--drop-invalid: $(cat "$T/out")"
 cmp -s "$T/ref.obj" "$T/nan.obj" || fail "dropping the NaN particle changed the mesh"
 echo "ok: CSV edge cases (empty, CRLF/id/comments, gzip, NaN)"
 
-# 8. no temporaries left anywhere
+# 8. the progress bar: on stderr only when it is a terminal, never with -q
+if command -v script >/dev/null 2>&1 && script -qec true /dev/null >/dev/null 2>&1; then
+    script -qec "'$J' convert '$S/jet_{}.csv' --frames 0:5 -r 0.025 -o '$T/tty/' >/dev/null" /dev/null >"$T/tty.txt" 2>&1
+    grep -q 'frames/s' "$T/tty.txt" && grep -q 'ETA' "$T/tty.txt" || fail "no progress bar on a terminal"
+    script -qec "'$J' convert '$S/jet_{}.csv' --frames 0:5 -r 0.025 -q -o '$T/tty/'" /dev/null >"$T/tty.txt" 2>&1
+    [ ! -s "$T/tty.txt" ] || fail "-q still draws a progress bar"
+    echo "ok: progress bar only on a terminal"
+else
+    echo "note: no script(1): progress bar on a terminal not checked"
+fi
+
+# 9. no temporaries left anywhere
 if find "$T" -name '*jetmesh-tmp*' | grep -q .; then fail "temporaries left: $(find "$T" -name '*jetmesh-tmp*')"; fi
 echo "all convert checks passed"
