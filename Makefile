@@ -46,6 +46,10 @@ CLI   = $(BUILD)/jetmesh
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
+# the library's hot loops want the vectoriser
+LIB_OPT ?= -O3 -g -fno-math-errno -fno-trapping-math
+$(LIB_OBJ): OPT = $(LIB_OPT)
+
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@

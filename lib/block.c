@@ -12,7 +12,7 @@
 size_t jm_scratch_bytes(int B)
 {
     size_t n = (size_t)B + 1, nn = n * n * n;
-    return nn * (sizeof(float) + 1 + 14 * sizeof(uint32_t)) + 3 * n * sizeof(float);
+    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n + 3 * n * sizeof(float);
 }
 
 int jm_scratch_init(jm_scratch *s, int B)
@@ -22,10 +22,12 @@ int jm_scratch_init(jm_scratch *s, int B)
     s->B = B;
     s->f = malloc(nn * sizeof *s->f);
     s->in = malloc(nn);
+    s->win = malloc(nn * sizeof *s->win);
+    s->rowstate = malloc(n * n);
     s->vt = malloc(nn * 7 * sizeof *s->vt);
     s->touched = malloc(nn * 7 * sizeof *s->touched);
     s->x = malloc(3 * n * sizeof(float));
-    if (!s->f || !s->in || !s->vt || !s->touched || !s->x) { jm_scratch_free(s); return 0; }
+    if (!s->f || !s->in || !s->win || !s->rowstate || !s->vt || !s->touched || !s->x) { jm_scratch_free(s); return 0; }
     s->y = s->x + n;
     s->z = s->y + n;
     memset(s->vt, 0xff, nn * 7 * sizeof *s->vt);
@@ -36,6 +38,8 @@ void jm_scratch_free(jm_scratch *s)
 {
     free(s->f);
     free(s->in);
+    free(s->win);
+    free(s->rowstate);
     free(s->vt);
     free(s->touched);
     free(s->x);
@@ -55,6 +59,7 @@ void jm_bout_free(jm_bout *o, jm_mem *mem)
     jm_free(mem, o->pos, o->capv * 3 * sizeof(float));
     jm_free(mem, o->nrm, o->capv * 3 * sizeof(float));
     jm_free(mem, o->uv, o->capv * 2 * sizeof(float));
+    jm_free(mem, o->cand, o->capv * 2 * sizeof(uint32_t));
     jm_free(mem, o->tri, o->capt * sizeof(uint32_t));
     jm_free(mem, o->pend, o->capp * 2 * sizeof(uint32_t));
     jm_free(mem, o->bmap, o->capb * 2 * sizeof(uint32_t));
@@ -84,32 +89,87 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     if (n) o->nrm = n;
     float *u = n ? jm_realloc(mem, o->uv, o->capv * 2 * sizeof(float), nc * 2 * sizeof(float)) : NULL;
     if (u) o->uv = u;
-    if (!p || !n || !u) {
+    uint32_t *cd = u ? jm_realloc(mem, o->cand, o->capv * 2 * sizeof(uint32_t), nc * 2 * sizeof(uint32_t)) : NULL;
+    if (cd) o->cand = cd;
+    if (!p || !n || !u || !cd) {
         /* keep the accounting right: shrink back what did grow */
         if (p) o->pos = jm_realloc(mem, o->pos, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
         if (n) o->nrm = jm_realloc(mem, o->nrm, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        if (u) o->uv = jm_realloc(mem, o->uv, nc * 2 * sizeof(float), o->capv * 2 * sizeof(float));
         return 0;
     }
     o->capv = nc;
     return 1;
 }
 
-/* The metasphere's crossing on edge a + t ab, where the linear estimate
- * t0 is refined by a few regula falsi (Illinois) steps on the exact field:
- * vertices then lie on the surface, not on the chord of the samples. */
-static float refine_root(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float a[3],
+/* Metasphere: the value at p of the pieces that won at the edge's two
+ * nodes (the field is their maximum near the edge). */
+static float cand_value(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3])
+{
+    float v = -INFINITY;
+    for (int k = 0; k < 2; k++)
+        if (cand[k] != UINT32_MAX) {
+            float w = jm_prim_eval(g, c, cand[k], p, NULL);
+            v = w > v ? w : v;
+        }
+    return v;
+}
+
+/* The metasphere's crossing on edge a + t ab: the linear estimate t is
+ * refined by a few regula falsi (Illinois) steps on the exact function, so
+ * vertices lie on the surface, not on the chord of the samples. */
+static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
                          const float ab[3], float fa, float fb, float t)
 {
+    uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
+    if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
+        /* a single ball: |a + t ab - q| = r (1 - threshold), solved directly */
+        const float *q = &g->pos[3 * (size_t)one];
+        float R = c->r * (1.0f - c->threshold);
+        float w[3] = {a[0] - q[0], a[1] - q[1], a[2] - q[2]};
+        float A = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+        float Bh = w[0] * ab[0] + w[1] * ab[1] + w[2] * ab[2];
+        float C = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - R * R;
+        float disc = Bh * Bh - A * C;
+        if (disc >= 0.0f) {
+            float sq = sqrtf(disc);
+            float t1 = (-Bh - sq) / A, t2 = (-Bh + sq) / A;
+            float best = fabsf(t1 - t) < fabsf(t2 - t) ? t1 : t2;
+            if (best >= 0.0f && best <= 1.0f) return best;
+        }
+    }
     float ta = 0.0f, tb = 1.0f;
+    const float tol = 1e-5f;
     for (int it = 0; it < 4; it++) {
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
-        float f = jm_field_value(g, c, hood, p) - c->threshold;
-        if (f == 0.0f) return t;
+        float f = cand_value(g, c, cand, p) - c->threshold;
+        if (fabsf(f) < tol) return t;
         if ((f > 0.0f) == (fa > 0.0f)) { ta = t; fa = f; fb *= 0.5f; }
         else { tb = t; fb = f; fa *= 0.5f; }
         t = ta + (tb - ta) * fa / (fa - fb);
     }
     return t;
+}
+
+/* Metasphere normal: the winning piece's gradient; where both pieces are
+ * within tau of each other (a crease of the union), their blend. */
+static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float nrm[3])
+{
+    float n0[3], n1[3], v0 = -INFINITY, v1 = -INFINITY;
+    if (cand[0] != UINT32_MAX) v0 = jm_prim_eval(g, c, cand[0], p, n0);
+    if (cand[1] != UINT32_MAX && cand[1] != cand[0]) v1 = jm_prim_eval(g, c, cand[1], p, n1);
+    if (v1 == -INFINITY) { memcpy(nrm, n0, sizeof n0); return; }
+    if (v0 == -INFINITY) { memcpy(nrm, n1, sizeof n1); return; }
+    const float tau = 0.1f * c->h / c->r;
+    float best = v0 > v1 ? v0 : v1;
+    float w0 = 1.0f - (best - v0) / tau, w1 = 1.0f - (best - v1) / tau;
+    w0 = w0 > 0.0f ? w0 : 0.0f;
+    w1 = w1 > 0.0f ? w1 : 0.0f;
+    float o[3], len = 0.0f;
+    for (int a = 0; a < 3; a++) { o[a] = w0 * n0[a] + w1 * n1[a]; len += o[a] * o[a]; }
+    if (!(len > 0.0f)) return;
+    len = 1.0f / sqrtf(len);
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] * len;
 }
 
 static int cmp_pair(const void *a, const void *b)
@@ -140,19 +200,24 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t0 = jm_now_ms();
     if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
-    jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f);
+    jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win);
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
-    for (size_t i = 0; i < nn; i++) {
-        s->in[i] = s->f[i] > thr;
-        inside += s->in[i];
+    {
+        const float *restrict f = s->f;
+        uint8_t *restrict in = s->in;
+        for (size_t i = 0; i < nn; i++) {
+            uint8_t v = f[i] > thr;
+            in[i] = v;
+            inside += v;
+        }
     }
     double t1 = jm_now_ms();
     out->t_field = t1 - t0;
     if (inside == 0 || inside == nn) return;
 
-    const int refine = c->field == JM_FIELD_METASPHERE;
+    const int meta = c->field == JM_FIELD_METASPHERE;
     const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
     const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
     jm_mem *mem = env->mem;
@@ -162,20 +227,37 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     size_t dir_off[7];
     for (int d = 0; d < 7; d++) dir_off[d] = jm_dir[d][0] + jm_dir[d][1] * sn + jm_dir[d][2] * sn2;
 
+    /* node rows that are all inside or all outside: a row of cubes between
+     * four such rows, all alike, has no surface */
+    uint8_t *rs = s->rowstate;
+    for (size_t r = 0; r < sn2; r++) {
+        const uint8_t *in = s->in + r * sn;
+        unsigned sum = 0;
+        for (size_t i = 0; i < sn; i++) sum += in[i];
+        rs[r] = sum == 0 ? 0 : (sum == sn ? 1 : 2);
+    }
     for (int k = 0; k < B; k++)
         for (int j = 0; j < B; j++) {
             size_t row = ((size_t)k * sn + j) * sn;
+            size_t r0 = (size_t)k * sn + j;
+            uint8_t a0 = rs[r0], a1 = rs[r0 + 1], a2 = rs[r0 + sn], a3 = rs[r0 + sn + 1];
+            if (a0 != 2 && a0 == a1 && a0 == a2 && a0 == a3) continue;
+            const uint8_t *i00 = s->in + row, *i10 = i00 + sn, *i01 = i00 + sn2, *i11 = i01 + sn;
+            /* corner bits: 1 x, 2 y, 4 z; walking +x the x=1 corners become x=0 */
+            unsigned cfg = (unsigned)i00[0] | (unsigned)i10[0] << 2 | (unsigned)i01[0] << 4 | (unsigned)i11[0] << 6;
             for (int i = 0; i < B; i++) {
                 size_t nd = row + i;
-                unsigned cfg = 0;
-                for (int q = 0; q < 8; q++) cfg |= (unsigned)s->in[nd + corner_off[q]] << q;
-                if (cfg == 0 || cfg == 255) continue;
-                int nt = tab->ntri[cfg];
+                cfg = (cfg & 0x55u) | (unsigned)i00[i + 1] << 1 | (unsigned)i10[i + 1] << 3 |
+                      (unsigned)i01[i + 1] << 5 | (unsigned)i11[i + 1] << 7;
+                const unsigned cfg_here = cfg;
+                cfg >>= 1; /* this cube's x=1 corners are the next one's x=0 */
+                if (cfg_here == 0 || cfg_here == 255) continue;
+                int nt = tab->ntri[cfg_here];
                 if (!grow(mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
                     out->failed = 1;
                     goto done;
                 }
-                const uint8_t *te = tab->edges[cfg];
+                const uint8_t *te = tab->edges[cfg_here];
                 for (int t = 0; t < 3 * nt; t++) {
                     int e = te[t];
                     int corner = jm_cube_edge_corner[e], dir = jm_cube_edge_dir[e];
@@ -192,7 +274,12 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
                             const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
                             float tt = (thr - fa) / (fb - fa);
-                            if (refine) tt = refine_root(g, c, &s->hood, a, ab, fa - thr, fb - thr, tt);
+                            if (meta) {
+                                uint32_t *cv = &out->cand[2 * out->nv];
+                                cv[0] = s->win[na];
+                                cv[1] = s->win[nb];
+                                tt = refine_root(g, c, cv, a, ab, fa - thr, fb - thr, tt);
+                            }
                             tt = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
                             float *p = &out->pos[3 * out->nv];
                             for (int q = 0; q < 3; q++) p[q] = a[q] + tt * ab[q];
@@ -241,7 +328,10 @@ done:
     qsort(out->bmap, out->nb, 2 * sizeof(uint32_t), cmp_pair);
     for (size_t v = 0; v < out->nv; v++) {
         float *p = &out->pos[3 * v], *nr = &out->nrm[3 * v];
-        if (want_nrm) jm_field_normal(g, c, &s->hood, p, nr);
+        if (want_nrm) {
+            if (meta) cand_normal(g, c, &out->cand[2 * v], p, nr);
+            else jm_field_normal(g, c, &s->hood, p, nr);
+        }
         if (c->uv_mode != JM_UV_NONE) jm_uv(c, p, nr, &out->uv[2 * v]);
     }
     out->t_attr = jm_now_ms() - t2;

@@ -8,6 +8,7 @@
 #define JM_PENDING 0x80000000u
 typedef struct jm_bout {
     float *pos, *nrm, *uv;
+    uint32_t *cand;           /* metasphere: 2 candidate pieces per vertex */
     size_t nv, capv;
     uint32_t *tri;
     size_t ni, capt;          /* indices (3 per triangle) */
@@ -25,6 +26,8 @@ typedef struct jm_scratch {
     int B;
     float *f;                 /* (B+1)^3 node values */
     uint8_t *in;              /* (B+1)^3 inside flags */
+    uint32_t *win;            /* (B+1)^3 metasphere winning pieces */
+    uint8_t *rowstate;        /* (B+1)^2 rows: 0 all out, 1 all in, 2 mixed */
     uint32_t *vt;             /* (B+1)^3 * 7 vertex refs */
     uint32_t *touched;
     size_t ntouched;

@@ -38,21 +38,50 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
     return 1;
 }
 
-/* index range [*a, *b) of nodes t[] (ascending) within [lo, hi] */
-static void node_span(const float *t, int n, float lo, float hi, int *a, int *b)
+/* floor and ceil without libm calls (x within int range) */
+static inline int ifloor(float x)
 {
-    int i = 0;
-    while (i < n && t[i] < lo) i++;
-    int j = n;
-    while (j > i && t[j - 1] > hi) j--;
-    *a = i;
-    *b = j;
+    int t = (int)x;
+    return t - (x < (float)t);
+}
+static inline int iceil(float x)
+{
+    int t = (int)x;
+    return t + (x > (float)t);
 }
 
-static void sample_sph(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
+/* index range [*a, *b) of the n nodes t[i] = t[0] + i h (as rounded) within
+ * [lo, hi]; the estimate from the spacing is corrected against t[] itself */
+static void node_span(const float *t, int n, float inv_h, float lo, float hi, int *a, int *b)
+{
+    float flo = (lo - t[0]) * inv_h, fhi = (hi - t[0]) * inv_h;
+    if (flo > (float)n) flo = (float)n;
+    if (fhi < -1.0f) fhi = -1.0f;
+    int i = iceil(flo < 0.0f ? 0.0f : flo);
+    int j = ifloor(fhi > (float)n ? (float)n : fhi) + 1;
+    if (i > n) i = n;
+    if (j > n) j = n;
+    while (i < n && t[i] < lo) i++;
+    while (i > 0 && t[i - 1] >= lo) i--;
+    while (j > 0 && t[j - 1] > hi) j--;
+    while (j < n && t[j] <= hi) j++;
+    *a = i;
+    *b = j > i ? j : i;
+}
+
+/* The splatting loops are built twice, for AVX2 machines and for any x86-64,
+ * chosen at load time. No FMA contraction (-std=c11 implies
+ * -ffp-contract=off), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
+#define JM_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define JM_CLONES
+#endif
+
+JM_CLONES static void sample_sph(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
                        const float *y, const float *z, int n, float *f)
 {
-    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h;
+    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h;
     size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     memset(f, 0, (size_t)n * n * n * sizeof *f);
     for (size_t k = 0; k < cells; k++) {
@@ -61,22 +90,28 @@ static void sample_sph(const jm_grid *g, const jm_config *c, const jm_hood *hood
             const float *q = GP(g, p);
             const float wgt = g->weight[p];
             int i0, i1, j0, j1, k0, k1;
-            node_span(x, n, q[0] - R, q[0] + R, &i0, &i1);
+            node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);
             if (i0 >= i1) continue;
-            node_span(y, n, q[1] - R, q[1] + R, &j0, &j1);
+            node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);
             if (j0 >= j1) continue;
-            node_span(z, n, q[2] - R, q[2] + R, &k0, &k1);
+            node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);
             for (int kk = k0; kk < k1; kk++) {
                 float dz = z[kk] - q[2], dz2 = dz * dz;
                 for (int jj = j0; jj < j1; jj++) {
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;
                     if (dyz2 >= R2) continue;
-                    float *row = f + ((size_t)kk * n + jj) * n;
-                    for (int ii = i0; ii < i1; ii++) {
-                        float dx = x[ii] - q[0];
-                        float d2 = dx * dx + dyz2;
-                        float w = jm_cubic_w(sqrtf(d2) * inv);
-                        row[ii] += d2 < R2 ? wgt * w : 0.0f;
+                    /* only the chord of the support ball along this row */
+                    float half = sqrtf(R2 - dyz2);
+                    int a = iceil((q[0] - half - x[0]) * inv_h), b = ifloor((q[0] + half - x[0]) * inv_h) + 1;
+                    a = a > i0 ? a : i0;
+                    b = b < i1 ? b : i1;
+                    float *restrict row = f + ((size_t)kk * n + jj) * n;
+                    const float *restrict xr = x;
+                    const float qx = q[0];
+                    for (int ii = a; ii < b; ii++) {
+                        float dx = xr[ii] - qx;
+                        float qq = sqrtf(dx * dx + dyz2) * inv;
+                        row[ii] += wgt * jm_cubic_w(qq); /* 0 beyond the support */
                     }
                 }
             }
@@ -84,13 +119,17 @@ static void sample_sph(const jm_grid *g, const jm_config *c, const jm_hood *hood
     }
 }
 
-static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                        const float *y, const float *z, int n, float *f)
+JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
+                        const float *y, const float *z, int n, float *f, uint32_t *win)
 {
-    const float r = c->r, inv_r = 1.0f / r, reach = r + c->margin, reach2 = reach * reach;
+    const uint32_t np = (uint32_t)g->n;
+    const float r = c->r, inv_r = 1.0f / r, reach = r + c->margin, reach2 = reach * reach, inv_h = c->inv_h;
     const float floor_v = -c->margin * inv_r;
     size_t nn = (size_t)n * n * n;
-    for (size_t i = 0; i < nn; i++) f[i] = floor_v;
+    for (size_t i = 0; i < nn; i++) {
+        f[i] = floor_v;
+        win[i] = UINT32_MAX;
+    }
     size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     for (size_t k = 0; k < cells; k++) {
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
@@ -98,19 +137,23 @@ static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hoo
             const float *q = GP(g, p);
             int i0, i1, j0, j1, k0, k1;
             /* the ball */
-            node_span(x, n, q[0] - reach, q[0] + reach, &i0, &i1);
-            node_span(y, n, q[1] - reach, q[1] + reach, &j0, &j1);
-            node_span(z, n, q[2] - reach, q[2] + reach, &k0, &k1);
+            node_span(x, n, inv_h, q[0] - reach, q[0] + reach, &i0, &i1);
+            node_span(y, n, inv_h, q[1] - reach, q[1] + reach, &j0, &j1);
+            node_span(z, n, inv_h, q[2] - reach, q[2] + reach, &k0, &k1);
             for (int kk = k0; kk < k1; kk++) {
                 float dz = z[kk] - q[2], dz2 = dz * dz;
                 for (int jj = j0; jj < j1; jj++) {
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;
                     if (dyz2 >= reach2) continue;
                     float *row = f + ((size_t)kk * n + jj) * n;
+                    uint32_t *wrow = win + ((size_t)kk * n + jj) * n;
                     for (int ii = i0; ii < i1; ii++) {
                         float dx = x[ii] - q[0];
                         float v = 1.0f - sqrtf(dx * dx + dyz2) * inv_r;
-                        row[ii] = v > row[ii] ? v : row[ii];
+                        if (v > row[ii]) {
+                            row[ii] = v;
+                            wrow[ii] = p;
+                        }
                     }
                 }
             }
@@ -127,22 +170,26 @@ static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hoo
                     lo[a] = fminf(q[a], m) - reach;
                     hi[a] = fmaxf(q[a], m) + reach;
                 }
-                node_span(x, n, lo[0], hi[0], &i0, &i1);
-                node_span(y, n, lo[1], hi[1], &j0, &j1);
-                node_span(z, n, lo[2], hi[2], &k0, &k1);
+                node_span(x, n, inv_h, lo[0], hi[0], &i0, &i1);
+                node_span(y, n, inv_h, lo[1], hi[1], &j0, &j1);
+                node_span(z, n, inv_h, lo[2], hi[2], &k0, &k1);
                 for (int kk = k0; kk < k1; kk++) {
                     float wz = z[kk] - q[2];
                     for (int jj = j0; jj < j1; jj++) {
                         float wy = y[jj] - q[1];
                         float *row = f + ((size_t)kk * n + jj) * n;
+                        uint32_t *wrow = win + ((size_t)kk * n + jj) * n;
                         float syz = wy * u[1] + wz * u[2], wyz2 = wy * wy + wz * wz;
                         for (int ii = i0; ii < i1; ii++) {
                             float wx = x[ii] - q[0];
                             float s = wx * u[0] + syz;
                             if (s < 0.0f || s > half) continue;
                             float q2 = wx * wx + wyz2 - s * s;
-                            float v = cosf(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
-                            row[ii] = v > row[ii] ? v : row[ii];
+                            float v = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
+                            if (v > row[ii]) {
+                                row[ii] = v;
+                                wrow[ii] = np + e;
+                            }
                         }
                     }
                 }
@@ -152,10 +199,43 @@ static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hoo
 }
 
 void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                     const float *y, const float *z, int n, float *f)
+                     const float *y, const float *z, int n, float *f, uint32_t *win)
 {
     if (c->field == JM_FIELD_SPH) sample_sph(g, c, hood, x, y, z, n, f);
-    else sample_meta(g, c, hood, x, y, z, n, f);
+    else sample_meta(g, c, hood, x, y, z, n, f, win);
+}
+
+float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3])
+{
+    const float inv_r = 1.0f / c->r;
+    if (id < g->n) {
+        const float *q = GP(g, id);
+        float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+        float d = sqrtf(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+        if (out && d > 0.0f)
+            for (int a = 0; a < 3; a++) out[a] = w[a] / d;
+        return 1.0f - d * inv_r;
+    }
+    uint32_t e = id - (uint32_t)g->n;
+    const float *q = GP(g, g->nb_owner[e]), *o = GP(g, g->nb[e]);
+    float u[3] = {o[0] - q[0], o[1] - q[1], o[2] - q[2]};
+    float D = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (int a = 0; a < 3; a++) u[a] /= D;
+    float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    float s = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
+    /* beyond its half the neck continues as the same formula; callers only
+     * use primitives that won at a node next to p */
+    if (s < 0.0f) s = 0.0f;
+    if (s > 0.5f * D) s = 0.5f * D;
+    float rad[3] = {w[0] - s * u[0], w[1] - s * u[1], w[2] - s * u[2]};
+    float qq = sqrtf(rad[0] * rad[0] + rad[1] * rad[1] + rad[2] * rad[2]);
+    if (out && qq > 0.0f) {
+        float sn = sinf(s * inv_r), len = 0.0f;
+        for (int a = 0; a < 3; a++) { out[a] = sn * u[a] + rad[a] / qq; len += out[a] * out[a]; }
+        len = 1.0f / sqrtf(len);
+        for (int a = 0; a < 3; a++) out[a] *= len;
+    }
+    return jm_cos_quarter(s * inv_r) - qq * inv_r;
 }
 
 /* cells of the hood within one cell of p */
@@ -182,7 +262,7 @@ void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
 int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3], float nrm[3])
 {
     float out[3] = {0, 0, 0};
-    if (c->field == JM_FIELD_SPH) {
+    {
         const float R2 = c->support * c->support, inv = 1.0f / c->sph_h;
         float gr[3] = {0, 0, 0};
         HOOD_NEAR(g, hood, p, {
@@ -200,46 +280,6 @@ int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
         out[0] = -gr[0];
         out[1] = -gr[1];
         out[2] = -gr[2];
-    } else {
-        /* The metasphere is a union, so its gradient jumps where two pieces
-         * meet. Pieces within tau of the maximum share the normal, weighted
-         * linearly: the analytic gradient wherever one piece dominates, a
-         * blend of the one-sided gradients along creases. */
-        const float best = jm_field_value(g, c, hood, p);
-        const float tau = 0.1f * c->h / c->r;
-        const float r = c->r, inv_r = 1.0f / r;
-        const float reach = 1.5708f * r + 1e-3f * r, reach2 = reach * reach;
-        HOOD_NEAR(g, hood, p, {
-            const float *q = GP(g, j);
-            float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-            float d2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-            if (d2 < reach2) {
-                float d = sqrtf(d2);
-                float v = 1.0f - d * inv_r;
-                float wt = 1.0f - (best - v) / tau;
-                if (wt > 0.0f && d > 0.0f)
-                    for (int a = 0; a < 3; a++) out[a] += wt * w[a] / d;
-                for (uint32_t e = g->nb_start[j]; e < g->nb_start[j + 1]; e++) {
-                    const float *o = GP(g, g->nb[e]);
-                    float u[3] = {o[0] - q[0], o[1] - q[1], o[2] - q[2]};
-                    float D = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-                    for (int a = 0; a < 3; a++) u[a] /= D;
-                    float s = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
-                    if (s < 0.0f || s > 0.5f * D) continue;
-                    float rad[3] = {w[0] - s * u[0], w[1] - s * u[1], w[2] - s * u[2]};
-                    float qq = sqrtf(rad[0] * rad[0] + rad[1] * rad[1] + rad[2] * rad[2]);
-                    float nv = cosf(s * inv_r) - qq * inv_r;
-                    float nw = 1.0f - (best - nv) / tau;
-                    if (nw > 0.0f && qq > 0.0f) {
-                        float sn = sinf(s * inv_r);
-                        float g3[3], gl = 0.0f;
-                        for (int a = 0; a < 3; a++) { g3[a] = sn * u[a] + rad[a] / qq; gl += g3[a] * g3[a]; }
-                        gl = 1.0f / sqrtf(gl);
-                        for (int a = 0; a < 3; a++) out[a] += nw * g3[a] * gl;
-                    }
-                }
-            }
-        });
     }
     float len = sqrtf(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
     if (!(len > 0.0f) || !isfinite(len)) return 0;
@@ -249,29 +289,3 @@ int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
     return 1;
 }
 
-float jm_field_value(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3])
-{
-    const float r = c->r, inv_r = 1.0f / r;
-    const float reach = 1.5708f * r + 1e-3f * r, reach2 = reach * reach;
-    float best = -c->margin * inv_r;
-    HOOD_NEAR(g, hood, p, {
-        const float *q = GP(g, j);
-        float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-        float d2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-        if (d2 < reach2) {
-            float v = 1.0f - sqrtf(d2) * inv_r;
-            best = v > best ? v : best;
-            for (uint32_t e = g->nb_start[j]; e < g->nb_start[j + 1]; e++) {
-                const float *o = GP(g, g->nb[e]);
-                float u[3] = {o[0] - q[0], o[1] - q[1], o[2] - q[2]};
-                float D = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-                float s = (w[0] * u[0] + w[1] * u[1] + w[2] * u[2]) / D;
-                if (s < 0.0f || s > 0.5f * D) continue;
-                float q2 = d2 - s * s;
-                float nv = cosf(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
-                best = nv > best ? nv : best;
-            }
-        }
-    });
-    return best;
-}

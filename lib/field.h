@@ -15,14 +15,25 @@ typedef struct jm_hood {
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 
-/* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) into f (x fastest). */
+/* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) into f (x fastest).
+ * Metasphere: win[node] receives the primitive that gave the node's value
+ * (UINT32_MAX where clamped); see jm_prim_eval. */
 void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                     const float *y, const float *z, int n, float *f);
+                     const float *y, const float *z, int n, float *f, uint32_t *win);
 
-/* Outward unit normal (minus the normalised gradient) at p; returns 0 if the
- * gradient vanishes (normal left untouched). */
+/* SPH: outward unit normal (minus the normalised gradient) at p; returns 0
+ * if the gradient vanishes (normal left untouched). */
 int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3], float n[3]);
 
-/* Metasphere only: the field value at p (as sampled on nodes). */
-float jm_field_value(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3]);
+/* Metasphere primitive id: a sorted particle index (its ball) or n + e for
+ * the half-neck of link e. Returns its value at p; out (may be NULL) gets its
+ * outward unit normal. */
+float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3]);
+
+/* cos(t) for t in [0, pi/2], |error| < 2e-7, no libm call */
+static inline float jm_cos_quarter(float t)
+{
+    float t2 = t * t;
+    return 1.0f + t2 * (-0.5f + t2 * (1.0f / 24 + t2 * (-1.0f / 720 + t2 * (1.0f / 40320 - t2 * (1.0f / 3628800)))));
+}
 #endif

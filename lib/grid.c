@@ -122,7 +122,10 @@ static void meta_fill(void *arg, size_t ci, int worker)
             const float *q = GP(g, j);
             float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
             float d2 = dx * dx + dy * dy + dz * dz;
-            if (j != i && d2 < link2 && d2 > 0.0f) g->nb[k++] = j;
+            if (j != i && d2 < link2 && d2 > 0.0f) {
+                g->nb_owner[k] = i;
+                g->nb[k++] = j;
+            }
         });
     }
 }
@@ -135,6 +138,7 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     jm_free(mem, g->weight, n * sizeof(float));
     jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
     jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
+    jm_free(mem, g->nb_owner, g->nb_count * sizeof(uint32_t));
     jm_free(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t));
     jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
     jm_free(mem, g->isolated, n);
@@ -278,9 +282,10 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         }
         g->nb_start[n] = (uint32_t)total;
         g->nb_count = total;
-        g->nb = jm_alloc(mem, (total ? total : 1) * sizeof(uint32_t));
-        if (!g->nb) { st = JM_E_OUT_OF_MEMORY; goto fail; }
-        if (!total) g->nb_count = 1; /* what was allocated */
+        if (!total) g->nb_count = 1; /* what is allocated */
+        g->nb = jm_alloc(mem, g->nb_count * sizeof(uint32_t));
+        g->nb_owner = jm_alloc(mem, g->nb_count * sizeof(uint32_t));
+        if (!g->nb || !g->nb_owner) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         jm_pool_run(pool, ncells, 16, meta_fill, &job);
     }
     for (size_t i = 0; i < n; i++) g->n_isolated += g->isolated[i];

@@ -5,6 +5,7 @@
 #include "jetmesh.h"
 #include <stdint.h>
 #include <stddef.h>
+#include <math.h>
 
 /* ---- memory accounting (alloc.c): every heap byte of a context is counted */
 typedef struct jm_mem {
@@ -65,7 +66,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_
 static inline float jm_cubic_w(float q) /* without the 1/(pi h^3) factor */
 {
     float a = 2.0f - q, b = 1.0f - q;
-    a = a > 0.0f ? a : 0.0f;
+    a = a > 0.0f ? a : 0.0f; /* not fmaxf: a libm call unless -ffinite-math-only */
     b = b > 0.0f ? b : 0.0f;
     return 0.25f * a * a * a - b * b * b;
 }
@@ -118,6 +119,7 @@ typedef struct jm_grid {
     float *weight;        /* sph: V_j per sorted particle */
     uint32_t *nb_start;   /* metasphere: n+1 offsets into nb */
     uint32_t *nb;         /* metasphere: neighbour sorted indices within link */
+    uint32_t *nb_owner;   /* metasphere: the particle each link starts from */
     size_t nb_count;
     size_t ncells;
     uint32_t *cell_start; /* ncells+1 offsets into pos */
