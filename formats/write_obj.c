@@ -138,9 +138,10 @@ jmf_status jmf_write_obj(jmf_atomic_file *af, const jm_mesh *mesh,
         }                                                                           \
     } while (0)
 
-    p += snprintf(p, OBJ_LINE_MAX, "# %s\n# %zu vertices, %zu triangles\n",
-                  generator ? generator : "jetmesh", mesh->vertex_count,
-                  mesh->triangle_count);
+    int hn = snprintf(p, OBJ_LINE_MAX, "# %.150s\n# %zu vertices, %zu triangles\n",
+                      generator ? generator : "jetmesh", mesh->vertex_count,
+                      mesh->triangle_count);
+    p += hn > 0 && hn < OBJ_LINE_MAX ? hn : 0;
     for (size_t i = 0; i < mesh->vertex_count; i++) {
         OBJ_FLUSH_IF_FULL();
         p = put_floats(p, "v", mesh->positions + 3 * i, 3);

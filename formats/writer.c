@@ -82,10 +82,16 @@ static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer
                                  const jmf_write_options *opt, size_t *bytes,
                                  char *err, size_t errlen)
 {
+    /* The text formats carry the generator on one header line: keep it to
+     * one line of reasonable length. */
+    char gen[200];
+    snprintf(gen, sizeof gen, "%s", default_generator(opt));
+    for (char *c = gen; *c; c++)
+        if ((unsigned char)*c < 0x20) *c = ' ';
     jmf_atomic_file af;
     jmf_status st = jmf_atomic_open(&af, path, err, errlen);
     if (st) return st;
-    st = fn(&af, mesh, default_generator(opt), err, errlen);
+    st = fn(&af, mesh, gen, err, errlen);
     if (st) {
         jmf_atomic_abort(&af);
         return st;

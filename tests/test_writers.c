@@ -753,6 +753,38 @@ static void test_bad_requests(void **state)
     test_mesh_free(&tm);
 }
 
+static void test_generator_stays_one_line(void **state)
+{
+    (void)state;
+    char err[512], gen[400];
+    memset(gen, 'g', sizeof gen - 1);
+    gen[sizeof gen - 1] = 0;
+    memcpy(gen, "evil\nline\r", 11);
+    test_mesh tm;
+    make("octahedron", &tm);
+    jmf_write_options o;
+    memset(&o, 0, sizeof o);
+    o.generator = gen;
+    assert_int_equal(write_path(in_dir("g.obj"), &tm.mesh, &o, NULL, err), JMF_OK);
+    assert_int_equal(write_path(in_dir("g.ply"), &tm.mesh, &o, NULL, err), JMF_OK);
+    assert_int_equal(write_path(in_dir("g.vtk"), &tm.mesh, &o, NULL, err), JMF_OK);
+    readback r;
+    read_obj(in_dir("g.obj"), &r, 6, 8); /* only comments, v, vt, vn, f lines */
+    assert_readback(&r, &tm.mesh, 6e-7f);
+    readback_free(&r);
+    read_ply(in_dir("g.ply"), &r);
+    assert_readback(&r, &tm.mesh, 0);
+    readback_free(&r);
+    read_vtk(in_dir("g.vtk"), &r);
+    assert_int_equal(r.nt, 8);
+    readback_free(&r);
+    size_t n;
+    char *d = (char *)slurp(in_dir("g.obj"), &n);
+    assert_int_equal(strncmp(d, "# evil line ggg", 15), 0);
+    free(d);
+    test_mesh_free(&tm);
+}
+
 /* ---- atomic output ----------------------------------------------------------------------- */
 
 static void test_atomic_commit_and_names(void **state)
@@ -955,6 +987,7 @@ int main(void)
         cmocka_unit_test(test_empty_mesh),
         cmocka_unit_test(test_drc),
         cmocka_unit_test(test_bad_requests),
+        cmocka_unit_test(test_generator_stays_one_line),
         cmocka_unit_test(test_atomic_commit_and_names),
         cmocka_unit_test(test_atomic_abort_keeps_target),
         cmocka_unit_test(test_atomic_remove_pending),
