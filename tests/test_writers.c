@@ -759,7 +759,7 @@ static void test_generator_stays_one_line(void **state)
     char err[512], gen[400];
     memset(gen, 'g', sizeof gen - 1);
     gen[sizeof gen - 1] = 0;
-    memcpy(gen, "evil\nline\r", 11);
+    memcpy(gen, "evil\nline\r", 10);
     test_mesh tm;
     make("octahedron", &tm);
     jmf_write_options o;
