@@ -527,6 +527,10 @@ int seq_expand(char *const *inputs, size_t n, const seq_range *range,
                         "'%s': the frame placeholder must be in the file name, not the directory", in);
                 return -1;
             }
+            if ((range->end - range->start) / range->step >= SEQ_MAX_FRAMES) {
+                seq_err(err, errlen, "'%s': the range names more than %d frames", in, SEQ_MAX_FRAMES);
+                return -1;
+            }
             for (long f = range->start; f <= range->end; f += range->step) {
                 char num[32];
                 snprintf(num, sizeof num, zero ? "%0*ld" : "%*ld", width, f);

@@ -28,6 +28,9 @@
  * directory output gets DIR/<input name without extension>.<ext>.
  */
 
+/* The most frames a printf pattern with --frames may name. */
+#define SEQ_MAX_FRAMES 10000000
+
 typedef struct seq_range {
     long start, end, step; /* end inclusive, step >= 1 */
     int set;               /* 0: no range given: every frame */
