@@ -285,7 +285,8 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
     ctx.gunzipped = 0;
     if (!out) return JMF_E_IO;
     if (!path || !*path) return jmr_fail(&ctx, JMF_E_IO, jmr_nowhere(), "no file name given");
-    limit = ctx.opt->max_bytes;
+    /* also bounds endless non-regular files (/dev/zero) when max_bytes is 0 */
+    limit = jmr_max_decoded(&ctx);
 
     fp = fopen(path, "rb");
     if (!fp) return jmr_fail(&ctx, JMF_E_IO, jmr_nowhere(), "cannot open: %s", strerror(errno));
@@ -299,10 +300,10 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
         return jmr_fail(&ctx, JMF_E_IO, jmr_nowhere(), "is a directory, expected a particle file");
     }
     if (S_ISREG(sb.st_mode) && sb.st_size > 0) {
-        if (limit && (uint64_t)sb.st_size > limit) {
+        if ((uint64_t)sb.st_size > limit) {
             fclose(fp);
-            return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file of %lld bytes exceeds max_bytes (%zu)",
-                            (long long)sb.st_size, limit);
+            return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file of %lld bytes exceeds the limit of %zu bytes%s",
+                            (long long)sb.st_size, limit, ctx.opt->max_bytes ? " (max_bytes)" : " (default cap; set max_bytes)");
         }
         if ((uint64_t)sb.st_size >= SIZE_MAX) {
             fclose(fp);
@@ -322,7 +323,8 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
         if (len == cap) {
             size_t ncap = cap > SIZE_MAX / 2 ? SIZE_MAX : cap * 2;
             uint8_t *nb;
-            if (limit && len > limit) break; /* reported below */
+            if (len > limit) break; /* reported below */
+            if (ncap > limit + 1) ncap = limit + 1;
             nb = (ncap > cap) ? realloc(buf, ncap) : NULL;
             if (!nb) {
                 free(buf);
@@ -346,9 +348,10 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
         }
     }
     fclose(fp);
-    if (limit && len > limit) {
+    if (len > limit) {
         free(buf);
-        return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file exceeds max_bytes (%zu)", limit);
+        return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file exceeds the limit of %zu bytes%s", limit,
+                        ctx.opt->max_bytes ? " (max_bytes)" : " (default cap; set max_bytes)");
     }
     st = jmf_read_particles_mem(buf, len, path, ctx.opt, out, err, errlen);
     free(buf);
