@@ -234,12 +234,34 @@ int seq_number_in_name(const char *path, long *index, char **digits)
     char *stem = seq_stem(path);
     if (!stem)
         return 0;
-    size_t end = strlen(stem);
-    while (end > 0 && !isdigit((unsigned char)stem[end - 1]))
-        end--;
-    size_t begin = end;
-    while (begin > 0 && isdigit((unsigned char)stem[begin - 1]))
-        begin--;
+    size_t len = strlen(stem), begin = 0, end = 0;
+    /* "frame" (any case), one optional separator, digits: the last such */
+    for (size_t i = 0; i + 5 <= len; i++) {
+        static const char word[] = "frame";
+        size_t k = 0;
+        while (k < 5 && tolower((unsigned char)stem[i + k]) == word[k])
+            k++;
+        if (k < 5)
+            continue;
+        size_t j = i + 5;
+        if (j < len && (stem[j] == '_' || stem[j] == '-' || stem[j] == '.' || stem[j] == ' '))
+            j++;
+        size_t e = j;
+        while (e < len && isdigit((unsigned char)stem[e]))
+            e++;
+        if (e > j) {
+            begin = j;
+            end = e;
+        }
+    }
+    if (end == 0) { /* else the last run of digits */
+        end = len;
+        while (end > 0 && !isdigit((unsigned char)stem[end - 1]))
+            end--;
+        begin = end;
+        while (begin > 0 && isdigit((unsigned char)stem[begin - 1]))
+            begin--;
+    }
     long v = 0;
     int found = end > begin && parse_index(stem + begin, end - begin, &v) == 0;
     if (found) {

@@ -14,9 +14,12 @@
  *                   exactly the frames of the range (a missing one is an
  *                   error when it is read); without, the existing files
  *                   whose name the pattern prints back exactly.
- *   a plain path    the index is the last run of digits in its name
- *                   (without extension), or, if it has none, its position
- *                   (from 0) among the inputs on the command line.
+ *   a plain path    the index is the number after "frame" in its name
+ *                   (any case, one optional _ - . or space between:
+ *                   frame_26_4732_particles.vtk is 26), else the last run
+ *                   of digits of its name without extension (fluid_0026.bgeo
+ *                   is 26), else its position (from 0) among the inputs on
+ *                   the command line.
  *   --frames START:END[:STEP]  END is inclusive; "N" alone is N:N. It
  *                   selects indices from every input.
  * Frames keep the order of the inputs on the command line; the frames of
@@ -66,8 +69,9 @@ seq_kind seq_kind_of(const char *s);
 /** Compares two strings with runs of digits compared by value. */
 int seq_natural_cmp(const char *a, const char *b);
 
-/** The number in a plain file name: the last run of digits of the name
- *  without directory and extension. 1 if found (*index, *digits malloc'd). */
+/** The number in a plain file name (without directory and extension): the
+ *  digits after "frame", else the last run of digits. 1 if found (*index,
+ *  *digits malloc'd). */
 int seq_number_in_name(const char *path, long *index, char **digits);
 
 /**

@@ -80,6 +80,17 @@ run 0 convert "$S/jet_099.csv" -r 0.025 -o "$T/plain.glb"
 [ "$(wc -c <"$T/web.draco.glb")" -lt "$(wc -c <"$T/plain.glb")" ] || fail "Draco GLB is not smaller"
 echo "ok: single frames, Draco"
 
+# 4b. the real frame (legacy VTK, binary): its plain-path index is the number after "frame"
+R=$ROOT/samples/real/double_dam_break_frame_26_4732_particles.vtk
+if [ -f "$R" ]; then
+    run 0 convert "$R" -r 0.025 -o "$T/real_{}.glb"
+    grep -q '^frame 26 .*: 4732 particles, [1-9][0-9]* vertices' "$T/out" || fail "real frame: $(cat "$T/out")"
+    check_glb "$T/real_26.glb"
+    echo "ok: the real VTK frame"
+else
+    echo "note: no samples/real frame yet"
+fi
+
 # 5. deterministic, whatever the thread count
 run 0 convert "$S/jet_099.csv" -r 0.025 -j 1 -o "$T/j1.obj"
 run 0 convert "$S/jet_099.csv" -r 0.025 -j 2 -o "$T/j2.obj"

@@ -279,6 +279,20 @@ static void test_directory_naming(void **state)
     assert_int_equal(idx, 12);
     assert_string_equal(digits, "12");
     free(digits);
+    /* the number after "frame" wins over a later one */
+    assert_true(seq_number_in_name("double_dam_break_frame_26_4732_particles.vtk", &idx, &digits));
+    assert_int_equal(idx, 26);
+    free(digits);
+    assert_true(seq_number_in_name("Frame-0007.bgeo.gz", &idx, &digits));
+    assert_int_equal(idx, 7);
+    assert_string_equal(digits, "0007");
+    free(digits);
+    assert_true(seq_number_in_name("ParticleData_Fluid_31.vtk", &idx, &digits));
+    assert_int_equal(idx, 31);
+    free(digits);
+    assert_true(seq_number_in_name("frames/frameA_9.csv", &idx, &digits)); /* "frameA": not followed by digits */
+    assert_int_equal(idx, 9);
+    free(digits);
 }
 
 int main(void)
