@@ -357,6 +357,10 @@ static void write_reports(run *r, double wall_ms)
     stats_summary sum;
     char err[1024];
     stats_summarize(&r->log, wall_ms, &sum);
+    if (r->o->stats_path)
+        platform_make_dirs(r->o->stats_path, 1); /* a failure shows when writing */
+    if (r->o->stats_svg)
+        platform_make_dirs(r->o->stats_svg, 1);
     if (r->o->stats_path && stats_write(r->o->stats_path, &r->log, &sum, err, sizeof err) != 0) {
         fprintf(stderr, "jetmesh: cannot write the statistics: %s\n", err);
         if (r->worst < EXIT_SOME_FAILED)
