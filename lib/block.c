@@ -12,7 +12,7 @@
 size_t jm_scratch_bytes(int B)
 {
     size_t n = (size_t)B + 1, nn = n * n * n;
-    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n + 3 * n * sizeof(float);
+    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float);
 }
 
 int jm_scratch_init(jm_scratch *s, int B)
@@ -23,11 +23,12 @@ int jm_scratch_init(jm_scratch *s, int B)
     s->f = malloc(nn * sizeof *s->f);
     s->in = malloc(nn);
     s->win = malloc(nn * sizeof *s->win);
+    s->pad = malloc(n * n * JM_PAD(n) * sizeof *s->pad);
     s->rowstate = malloc(n * n);
     s->vt = malloc(nn * 7 * sizeof *s->vt);
     s->touched = malloc(nn * 7 * sizeof *s->touched);
     s->x = malloc(3 * n * sizeof(float));
-    if (!s->f || !s->in || !s->win || !s->rowstate || !s->vt || !s->touched || !s->x) { jm_scratch_free(s); return 0; }
+    if (!s->f || !s->in || !s->win || !s->pad || !s->rowstate || !s->vt || !s->touched || !s->x) { jm_scratch_free(s); return 0; }
     s->y = s->x + n;
     s->z = s->y + n;
     memset(s->vt, 0xff, nn * 7 * sizeof *s->vt);
@@ -39,11 +40,13 @@ void jm_scratch_free(jm_scratch *s)
     free(s->f);
     free(s->in);
     free(s->win);
+    free(s->pad);
     free(s->rowstate);
     free(s->vt);
     free(s->touched);
     free(s->x);
     free(s->hood.range);
+    free(s->soa.buf);
     memset(s, 0, sizeof *s);
 }
 
@@ -200,7 +203,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t0 = jm_now_ms();
     if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
-    jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win);
+    jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad);
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
@@ -326,11 +329,15 @@ done:
     out->t_extract = t2 - t1;
     if (out->failed) return;
     qsort(out->bmap, out->nb, 2 * sizeof(uint32_t), cmp_pair);
+    if (!meta && want_nrm && out->nv) {
+        jm_sph_gather(g, c, &s->hood, lo, hi, &s->soa);
+        if (s->soa.n == SIZE_MAX) { out->failed = 1; return; }
+    }
     for (size_t v = 0; v < out->nv; v++) {
         float *p = &out->pos[3 * v], *nr = &out->nrm[3 * v];
         if (want_nrm) {
             if (meta) cand_normal(g, c, &out->cand[2 * v], p, nr);
-            else jm_field_normal(g, c, &s->hood, p, nr);
+            else jm_sph_normal(c, &s->soa, p, nr);
         }
         if (c->uv_mode != JM_UV_NONE) jm_uv(c, p, nr, &out->uv[2 * v]);
     }

@@ -27,12 +27,14 @@ typedef struct jm_scratch {
     float *f;                 /* (B+1)^3 node values */
     uint8_t *in;              /* (B+1)^3 inside flags */
     uint32_t *win;            /* (B+1)^3 metasphere winning pieces */
+    float *pad;               /* (B+1)^2 * JM_PAD(B+1) padded field rows */
     uint8_t *rowstate;        /* (B+1)^2 rows: 0 all out, 1 all in, 2 mixed */
     uint32_t *vt;             /* (B+1)^3 * 7 vertex refs */
     uint32_t *touched;
     size_t ntouched;
     float *x, *y, *z;         /* node coordinates */
     jm_hood hood;
+    jm_soa soa;               /* sph: particles near the block, for normals */
 } jm_scratch;
 
 typedef struct jm_block_set {

@@ -79,44 +79,59 @@ static void node_span(const float *t, int n, float inv_h, float lo, float hi, in
 #endif
 
 JM_CLONES static void sample_sph(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                       const float *y, const float *z, int n, float *f)
+                                 const float *y, const float *z, int n, float *f, float *pad)
 {
-    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h;
+    /* Splats into pad, whose rows are JM_PAD(n) long (a multiple of 8), in
+     * aligned runs of 8 nodes: no remainder loops, one or two AVX steps per
+     * row of the support's chord. Then copies the n x n x n nodes out. */
+    const int ns = JM_PAD(n);
+    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;
+    float xp[JM_PAD_MAX];
+    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;
     size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
-    memset(f, 0, (size_t)n * n * n * sizeof *f);
+    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);
+    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R, bz0 = z[0] - R, bz1 = z[n - 1] + R;
     for (size_t k = 0; k < cells; k++) {
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
-            if (g->isolated[p]) continue;
             const float *q = GP(g, p);
+            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue;
+            if (g->isolated[p]) continue;
             const float wgt = g->weight[p];
             int i0, i1, j0, j1, k0, k1;
             node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);
-            if (i0 >= i1) continue;
             node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);
-            if (j0 >= j1) continue;
             node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);
+            if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;
+            const float qx = q[0];
             for (int kk = k0; kk < k1; kk++) {
                 float dz = z[kk] - q[2], dz2 = dz * dz;
                 for (int jj = j0; jj < j1; jj++) {
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;
                     if (dyz2 >= R2) continue;
-                    /* only the chord of the support ball along this row */
+                    /* the chord of the support ball along this row, widened
+                     * to whole runs of 8 (the kernel is 0 beyond support) */
                     float half = sqrtf(R2 - dyz2);
-                    int a = iceil((q[0] - half - x[0]) * inv_h), b = ifloor((q[0] + half - x[0]) * inv_h) + 1;
+                    int a = iceil((qx - half - x[0]) * inv_h), b = ifloor((qx + half - x[0]) * inv_h) + 1;
                     a = a > i0 ? a : i0;
                     b = b < i1 ? b : i1;
-                    float *restrict row = f + ((size_t)kk * n + jj) * n;
-                    const float *restrict xr = x;
-                    const float qx = q[0];
-                    for (int ii = a; ii < b; ii++) {
-                        float dx = xr[ii] - qx;
-                        float qq = sqrtf(dx * dx + dyz2) * inv;
-                        row[ii] += wgt * jm_cubic_w(qq); /* 0 beyond the support */
+                    if (a >= b) continue;
+                    a &= ~7;
+                    b = (b + 7) & ~7;
+                    float *restrict row = pad + ((size_t)kk * n + jj) * ns;
+                    for (int ii = a; ii < b; ii += 8) {
+                        float acc[8];
+                        for (int l = 0; l < 8; l++) {
+                            float dx = xp[ii + l] - qx;
+                            float qq = sqrtf(dx * dx + dyz2) * inv;
+                            acc[l] = row[ii + l] + wgt * jm_cubic_w(qq);
+                        }
+                        for (int l = 0; l < 8; l++) row[ii + l] = acc[l];
                     }
                 }
             }
         }
     }
+    for (size_t r = 0; r < (size_t)n * n; r++) memcpy(f + r * n, pad + r * ns, (size_t)n * sizeof *f);
 }
 
 JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
@@ -199,9 +214,9 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
 }
 
 void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                     const float *y, const float *z, int n, float *f, uint32_t *win)
+                     const float *y, const float *z, int n, float *f, uint32_t *win, float *pad)
 {
-    if (c->field == JM_FIELD_SPH) sample_sph(g, c, hood, x, y, z, n, f);
+    if (c->field == JM_FIELD_SPH) sample_sph(g, c, hood, x, y, z, n, f, pad);
     else sample_meta(g, c, hood, x, y, z, n, f, win);
 }
 
@@ -238,54 +253,67 @@ float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const floa
     return jm_cos_quarter(s * inv_r) - qq * inv_r;
 }
 
-/* cells of the hood within one cell of p */
-#define HOOD_NEAR(g, hood, p, ...)                                                          \
-    do {                                                                                     \
-        int64_t pc_[3];                                                                      \
-        int lo_[3], hi_[3];                                                                  \
-        for (int a_ = 0; a_ < 3; a_++) {                                                     \
-            pc_[a_] = (int64_t)floorf((p)[a_] * (g)->inv_cell) - (hood)->c0[a_];             \
-            lo_[a_] = pc_[a_] - 1 < 0 ? 0 : (int)(pc_[a_] - 1);                              \
-            hi_[a_] = pc_[a_] + 1 >= (hood)->n[a_] ? (hood)->n[a_] - 1 : (int)(pc_[a_] + 1); \
-        }                                                                                    \
-        for (int z_ = lo_[2]; z_ <= hi_[2]; z_++)                                            \
-            for (int y_ = lo_[1]; y_ <= hi_[1]; y_++)                                        \
-                for (int x_ = lo_[0]; x_ <= hi_[0]; x_++) {                                  \
-                    size_t k_ = ((size_t)z_ * (hood)->n[1] + y_) * (hood)->n[0] + x_;        \
-                    for (uint32_t j = (hood)->range[2 * k_]; j < (hood)->range[2 * k_ + 1]; j++) { \
-                        if ((g)->isolated[j]) continue;                                      \
-                        __VA_ARGS__                                                                 \
-                    }                                                                        \
-                }                                                                            \
-    } while (0)
-
-int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3], float nrm[3])
+void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3], const float hi[3],
+                   jm_soa *out)
 {
-    float out[3] = {0, 0, 0};
-    {
-        const float R2 = c->support * c->support, inv = 1.0f / c->sph_h;
-        float gr[3] = {0, 0, 0};
-        HOOD_NEAR(g, hood, p, {
-            const float *q = GP(g, j);
-            float d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-            float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            if (d2 < R2 && d2 > 0.0f) {
-                float dist = sqrtf(d2);
-                float s = g->weight[j] * jm_cubic_dw(dist * inv) / dist;
-                gr[0] += s * d[0];
-                gr[1] += s * d[1];
-                gr[2] += s * d[2];
+    const float R = c->support;
+    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    out->n = 0;
+    for (size_t k = 0; k < cells; k++)
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+            const float *q = GP(g, p);
+            if (q[0] < lo[0] - R || q[0] > hi[0] + R || q[1] < lo[1] - R || q[1] > hi[1] + R || q[2] < lo[2] - R ||
+                q[2] > hi[2] + R || g->isolated[p])
+                continue;
+            if (out->n + 8 > out->cap) {
+                size_t nc = out->cap ? out->cap * 2 : 1024;
+                float *b = realloc(out->buf, 4 * nc * sizeof *b);
+                if (!b) { out->n = SIZE_MAX; return; }
+                out->buf = b;
+                out->cap = nc;
             }
-        });
-        out[0] = -gr[0];
-        out[1] = -gr[1];
-        out[2] = -gr[2];
+            float *b = out->buf + 4 * (out->n & ~(size_t)7) + (out->n & 7);
+            b[0] = q[0];
+            b[8] = q[1];
+            b[16] = q[2];
+            b[24] = g->weight[p];
+            out->n++;
+        }
+    /* pad the last group of 8 with weightless particles far away */
+    for (size_t m = out->n; m & 7; m++) {
+        float *b = out->buf + 4 * (m & ~(size_t)7) + (m & 7);
+        b[0] = b[8] = b[16] = 1e30f;
+        b[24] = 0.0f;
     }
-    float len = sqrtf(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
-    if (!(len > 0.0f) || !isfinite(len)) return 0;
-    nrm[0] = out[0] / len;
-    nrm[1] = out[1] / len;
-    nrm[2] = out[2] / len;
-    return 1;
 }
 
+/* Outward normal from the gathered particles: groups of 8 (x8, y8, z8, w8),
+ * eight lanes summed in a fixed order, so SSE and AVX builds agree. */
+JM_CLONES int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3])
+{
+    const float R2 = c->support * c->support, inv = 1.0f / c->sph_h;
+    float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
+    size_t groups = (s->n + 7) / 8;
+    for (size_t gi = 0; gi < groups; gi++) {
+        const float *b = s->buf + 32 * gi;
+        for (int l = 0; l < 8; l++) {
+            float dx = p[0] - b[l], dy = p[1] - b[8 + l], dz = p[2] - b[16 + l];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            float d = sqrtf(d2);
+            float k = d2 < R2 && d2 > 0.0f ? b[24 + l] * jm_cubic_dw(d * inv) / d : 0.0f;
+            gx[l] += k * dx;
+            gy[l] += k * dy;
+            gz[l] += k * dz;
+        }
+    }
+    float o[3] = {0, 0, 0};
+    for (int l = 0; l < 8; l++) {
+        o[0] -= gx[l];
+        o[1] -= gy[l];
+        o[2] -= gz[l];
+    }
+    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(len > 0.0f) || !isfinite(len)) return 0;
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
+    return 1;
+}

@@ -4,6 +4,8 @@
 #include "grid.h"
 
 /* The cells of the particle grid around one block, as a small dense array. */
+#include <string.h>
+
 typedef struct jm_hood {
     int64_t c0[3];      /* absolute coordinates of the first cell */
     int n[3];           /* cells per axis */
@@ -19,11 +21,24 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
  * Metasphere: win[node] receives the primitive that gave the node's value
  * (UINT32_MAX where clamped); see jm_prim_eval. */
 void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                     const float *y, const float *z, int n, float *f, uint32_t *win);
+                     const float *y, const float *z, int n, float *f, uint32_t *win, float *pad);
 
-/* SPH: outward unit normal (minus the normalised gradient) at p; returns 0
- * if the gradient vanishes (normal left untouched). */
-int jm_field_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float p[3], float n[3]);
+/* Row length of the padded sampling buffer (n^2 rows): a multiple of 8. */
+#define JM_PAD(n) (((n) + 7) & ~7)
+#define JM_PAD_MAX 64
+
+/* SPH particles near a block, in groups of 8: x[8], y[8], z[8], weight[8]. */
+typedef struct jm_soa {
+    float *buf;
+    size_t n, cap;    /* particles (n = SIZE_MAX: out of memory), capacity */
+} jm_soa;
+
+/* Gathers the particles whose support reaches the box [lo, hi]. */
+void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3], const float hi[3],
+                   jm_soa *out);
+/* SPH outward unit normal at p from the gathered particles; 0 if the
+ * gradient vanishes (nrm untouched). */
+int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3]);
 
 /* Metasphere primitive id: a sorted particle index (its ball) or n + e for
  * the half-neck of link e. Returns its value at p; out (may be NULL) gets its
