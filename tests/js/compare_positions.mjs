@@ -26,51 +26,45 @@ async function load(file) {
 }
 
 // Largest over the points of a of the per-axis (Chebyshev) distance to the
-// nearest point of b, found through a hash grid of cell size >= tol (points
-// further than one cell away count as Infinity).
+// nearest point of b within tol (Infinity when a point has none): b sorted
+// along its longest axis, each point of a scans the slab of width 2 tol.
 function maxNearest(a, b, tol) {
-  let h = Math.max(tol, 1e-12);
-  const lo = [Infinity, Infinity, Infinity];
-  const hi = [-Infinity, -Infinity, -Infinity];
-  for (const p of [a, b])
-    for (let i = 0; i < p.length; i++) {
-      lo[i % 3] = Math.min(lo[i % 3], p[i]);
-      hi[i % 3] = Math.max(hi[i % 3], p[i]);
+  const nb = b.length / 3;
+  const ext = [0, 1, 2].map((k) => {
+    let lo = Infinity, hi = -Infinity;
+    for (let i = k; i < b.length; i += 3) {
+      lo = Math.min(lo, b[i]);
+      hi = Math.max(hi, b[i]);
     }
-  // Exact integer keys: at most 2^17 cells per axis.
-  h = Math.max(h, ...[0, 1, 2].map((k) => (hi[k] - lo[k]) / 131000));
-  const n = [0, 1, 2].map((k) => Math.floor((hi[k] - lo[k]) / h) + 3);
-  const cell = (x, k) => Math.floor((x - lo[k]) / h) + 1;
-  const key = (ix, iy, iz) => ix + n[0] * (iy + n[1] * iz);
-  const grid = new Map();
-  for (let i = 0; i < b.length / 3; i++) {
-    const k = key(cell(b[3 * i], 0), cell(b[3 * i + 1], 1), cell(b[3 * i + 2], 2));
-    const list = grid.get(k);
-    if (list) list.push(i);
-    else grid.set(k, [i]);
-  }
+    return hi - lo;
+  });
+  const ax = ext.indexOf(Math.max(...ext));
+  const order = Uint32Array.from({ length: nb }, (_, i) => i).sort((i, j) => b[3 * i + ax] - b[3 * j + ax]);
+  const key = Float64Array.from(order, (i) => b[3 * i + ax]);
   let worst = 0;
   const axis = [0, 0, 0];
   for (let i = 0; i < a.length / 3; i++) {
     const x = a[3 * i], y = a[3 * i + 1], z = a[3 * i + 2];
-    const cx = cell(x, 0), cy = cell(y, 1), cz = cell(z, 2);
+    const c = a[3 * i + ax];
+    let lo = 0, hi = nb; // first key >= c - tol
+    while (lo < hi) {
+      const mid = (lo + hi) >> 1;
+      if (key[mid] < c - tol) lo = mid + 1;
+      else hi = mid;
+    }
     let best = Infinity, bx = 0, by = 0, bz = 0;
-    for (let dz = -1; dz <= 1; dz++)
-      for (let dy = -1; dy <= 1; dy++)
-        for (let dx = -1; dx <= 1; dx++) {
-          const list = grid.get(key(cx + dx, cy + dy, cz + dz));
-          if (!list) continue;
-          for (const j of list) {
-            const ex = Math.abs(b[3 * j] - x), ey = Math.abs(b[3 * j + 1] - y), ez = Math.abs(b[3 * j + 2] - z);
-            const d = ex > ey ? (ex > ez ? ex : ez) : ey > ez ? ey : ez;
-            if (d < best) {
-              best = d;
-              bx = ex;
-              by = ey;
-              bz = ez;
-            }
-          }
-        }
+    for (let s = lo; s < nb && key[s] <= c + tol; s++) {
+      const j = order[s];
+      const ex = Math.abs(b[3 * j] - x), ey = Math.abs(b[3 * j + 1] - y), ez = Math.abs(b[3 * j + 2] - z);
+      const d = ex > ey ? (ex > ez ? ex : ez) : ey > ez ? ey : ez;
+      if (d < best) {
+        best = d;
+        bx = ex;
+        by = ey;
+        bz = ez;
+      }
+    }
+    if (best > tol) best = Infinity;
     if (best > worst) worst = best;
     if (best < Infinity) {
       axis[0] = Math.max(axis[0], bx);
