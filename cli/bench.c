@@ -674,7 +674,7 @@ static void load_input(const bench_opts *o, bench_input *in)
     }
     }
     if (r != 0) {
-        snprintf(in->err, sizeof in->err, "%s: out of memory generating the scene", in->name);
+        snprintf(in->err, sizeof in->err, "out of memory generating the scene");
         return;
     }
     in->xyz = pts.xyz;
@@ -974,7 +974,7 @@ static void print_header(const bench_opts *o, const machine *m)
     printf("timing: after %ld warm-up run%s, at least %ld run%s and %.3g s per case; radius %g\n\n",
            o->warmup, o->warmup == 1 ? "" : "s", o->repeat, o->repeat == 1 ? "" : "s", o->min_time,
            o->radius);
-    printf("%-18s %-4s %-2s %4s %3s %-3s %6s | %9s %9s %9s | %9s %9s %9s %9s", "case", "fld", "mt",
+    printf("%-22s %-4s %-2s %4s %3s %-3s %6s | %9s %9s %9s | %9s %9s %9s %9s", "case", "fld", "mt",
            "cube", "thr", "tpl", "runs", "total", "min", "p90", "prepare", "field", "extract", "attrs");
     if (o->write_format >= 0)
         printf(" %9s", "write");
@@ -984,13 +984,13 @@ static void print_header(const bench_opts *o, const machine *m)
 
 static void print_row(const bench_opts *o, const bench_input *in, const bench_case *c)
 {
-    char name[19];
+    char name[23]; /* a long file name keeps its first 10 and last 11 characters */
     size_t len = strlen(in->name);
-    if (len > 18)
-        snprintf(name, sizeof name, "~%s", in->name + len - 17);
+    if (len > 22)
+        snprintf(name, sizeof name, "%.10s~%s", in->name, in->name + len - 11);
     else
         snprintf(name, sizeof name, "%s", in->name);
-    printf("%-18s %-4s %-2s %4.2g %3d %-3s ", name, c->field == JM_FIELD_SPH ? "sph" : "meta",
+    printf("%-22s %-4s %-2s %4.2g %3d %-3s ", name, c->field == JM_FIELD_SPH ? "sph" : "meta",
            method_name(c->method), c->cube, c->threads, c->templates ? "on" : "off");
     if (!c->ok) {
         printf("FAILED: %s\n", c->err);
@@ -1265,12 +1265,15 @@ int cmd_bench(int argc, char **argv)
             progress(o, "bench: loading %s", in->name);
             load_input(o, in);
             progress(o, NULL);
+            if (in->loaded != 1)
+                fprintf(stderr, "jetmesh bench: %s\n", in->err);
             loaded_for = c->input;
         }
         run_case(o, in, c, wdir);
         if (!c->ok) {
             failed++;
-            fprintf(stderr, "jetmesh bench: %s: %s\n", in->name, c->err);
+            if (in->loaded == 1) /* a load failure was told once above */
+                fprintf(stderr, "jetmesh bench: %s: %s\n", in->name, c->err);
         } else {
             for (size_t b = 0; b < k; b++) {
                 const bench_case *base = &cases[b];
@@ -1297,7 +1300,10 @@ int cmd_bench(int argc, char **argv)
         if (o->write_format >= 0)
             printf(" (write: %s, not part of total)", o->write_ext);
         printf(".\n");
-        if (ncases && !cases[0].rss_reset)
+        int unreset = 0;
+        for (size_t k = 0; k < ncases; k++)
+            unreset |= cases[k].ok && !cases[k].rss_reset;
+        if (unreset)
             printf("RSS peak: the kernel refused a reset, so it is the process's peak so far.\n");
         if (failed)
             printf("%d case%s failed.\n", failed, failed == 1 ? "" : "s");
