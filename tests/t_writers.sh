@@ -23,16 +23,8 @@ command -v draco_decoder >/dev/null 2>&1 || fail "draco_decoder is missing: apt-
 T=$(mktemp -d "${TMPDIR:-/tmp}/t_writers.XXXXXX")
 trap 'rm -rf "$T"' EXIT INT TERM
 
-# json FILE_OR_TEXT KEY.PATH -> the value (arrays space-separated)
-json() {
-  node -e '
-    const fs = require("fs");
-    const src = process.argv[1];
-    const o = JSON.parse(fs.existsSync(src) ? fs.readFileSync(src, "utf8") : src);
-    let v = o;
-    for (const k of process.argv[2].split(".")) v = v == null ? v : v[k];
-    console.log(Array.isArray(v) ? v.join(" ") : v);' "$1" "$2"
-}
+# field JSON KEY: a scalar of our own one-line JSON outputs
+field() { printf '%s\n' "$1" | sed -n "s/.*\"$2\": *\"\{0,1\}\([^,\"}]*\).*/\1/p"; }
 
 # expect_eq WHAT GOT WANT
 expect_eq() {
@@ -78,52 +70,65 @@ cat "$T/validate.log"
 # 8 glTF/GLB variants of each of the 4 meshes, 4 index-type cases, 1 forced format
 expect_eq "files validated" "$(grep -c ': ok: 0 errors, 0 warnings' "$T/validate.log")" 37 || fail "validation count"
 
-# --- 3. Index types and the z-up rotation -------------------------------------
-note "checking index types and z-up"
-gltf_json() { # FILE.glb|FILE.gltf -> the JSON text
-  node -e '
-    const b = require("fs").readFileSync(process.argv[1]);
-    if (b.readUInt32LE(0) === 0x46546c67) process.stdout.write(b.subarray(20, 20 + b.readUInt32LE(12)).toString());
-    else process.stdout.write(b.toString());' "$1"
+# --- 3. Index types, z-up, buffers, generator (one node run reads every file) ----
+note "checking index types, z-up rotation, buffers and generator"
+version=$(sed -n 's/^#define JM_VERSION_STRING "\(.*\)"/\1/p' "$R/lib/jetmesh.h")
+node - "$T" "$version" <<'JS' || fail "glTF content checks (see above)"
+const fs = require('fs');
+const [dir, version] = process.argv.slice(2);
+let bad = 0;
+const check = (ok, what) => { if (!ok) { bad++; console.error(`t_writers: FAIL: ${what}`); } };
+const gltf = (name) => {
+  const b = fs.readFileSync(`${dir}/${name}`);
+  const text = b.readUInt32LE(0) === 0x46546c67 ? b.subarray(20, 20 + b.readUInt32LE(12)) : b;
+  return JSON.parse(text.toString());
+};
+const src = (name) => JSON.parse(fs.readFileSync(`${dir}/${name}.src.json`, 'utf8'));
+const prim = (g) => g.meshes[0].primitives[0];
+const indexType = (name) => { const g = gltf(name); return g.accessors[prim(g).indices].componentType; };
+for (const [name, want] of [['u16.glb', 5123], ['u32.glb', 5125], ['grid.glb', 5125], ['octahedron.glb', 5123],
+                            ['u16.draco.gltf', 5123], ['u32.draco.glb', 5125]])
+  check(indexType(name) === want, `${name}: index componentType ${indexType(name)}, expected ${want}`);
+const f = Math.fround;
+for (const m of ['octahedron', 'icosphere_3', 'grid']) {
+  for (const [name, rot] of [[`${m}.gltf`, false], [`${m}.zup.gltf`, true], [`${m}.zup.draco.glb`, true]]) {
+    const g = gltf(name), s = src(name), P = g.accessors[prim(g).attributes.POSITION];
+    const [x0, y0, z0] = s.min.map(f), [x1, y1, z1] = s.max.map(f);
+    const want = rot ? [[x0, z0, -y1], [x1, z1, -y0]] : [[x0, y0, z0], [x1, y1, z1]];
+    check(JSON.stringify([P.min, P.max]) === JSON.stringify(want),
+          `${name}: POSITION min/max ${JSON.stringify([P.min, P.max])}, expected ${JSON.stringify(want)}` +
+          (rot ? ' = (x, z, -y) of the source' : ''));
+  }
 }
-idx_type() { json "$(gltf_json "$T/$1")" "accessors.$(json "$(gltf_json "$T/$1")" meshes.0.primitives.0.indices).componentType"; }
-expect_eq "u16.glb index type" "$(idx_type u16.glb)" 5123
-expect_eq "u32.glb index type" "$(idx_type u32.glb)" 5125
-expect_eq "grid.glb index type" "$(idx_type grid.glb)" 5125
-expect_eq "octahedron.glb index type" "$(idx_type octahedron.glb)" 5123
-expect_eq "u16.draco.gltf index type" "$(idx_type u16.draco.gltf)" 5123
-expect_eq "u32.draco.glb index type" "$(idx_type u32.draco.glb)" 5125
-pos_minmax() { j=$(gltf_json "$T/$1"); a=$(json "$j" meshes.0.primitives.0.attributes.POSITION); echo "$(json "$j" "accessors.$a.min") / $(json "$j" "accessors.$a.max")"; }
-for m in octahedron icosphere_3 grid; do
-  src="$T/$m.zup.gltf.src.json"
-  set -- $(json "$src" min) $(json "$src" max) # x0 y0 z0 x1 y1 z1
-  want=$(node -e 'const f=(x)=>Math.fround(+x); const [x0,y0,z0,x1,y1,z1]=process.argv.slice(1).map(f);
-    console.log(`${x0} ${z0} ${-y1} / ${x1} ${z1} ${-y0}`)' -- "$@")
-  expect_eq "$m.zup.gltf POSITION min/max = (x, z, -y) of the source" "$(pos_minmax "$m.zup.gltf")" "$want"
-  expect_eq "$m.gltf POSITION min/max" "$(pos_minmax "$m.gltf")" \
-    "$(node -e 'const f=(x)=>Math.fround(+x); const v=process.argv.slice(1).map(f); console.log(`${v[0]} ${v[1]} ${v[2]} / ${v[3]} ${v[4]} ${v[5]}`)' -- "$@")"
-done
-expect_eq "empty.gltf has no meshes" "$(json "$(gltf_json "$T/empty.gltf")" meshes)" undefined
-[ ! -e "$T/empty.bin" ] || fail "empty.gltf should need no .bin"
-[ -s "$T/octahedron.bin" ] || fail "octahedron.gltf's .bin is missing"
-expect_eq "octahedron.gltf buffer uri" "$(json "$(gltf_json "$T/octahedron.gltf")" buffers.0.uri)" octahedron.bin
-expect_eq "embedded buffer" "$(json "$(gltf_json "$T/octahedron.embed.gltf")" buffers.0.uri | cut -c1-37)" \
-  "data:application/octet-stream;base64,"
-expect_eq "generator" "$(json "$(gltf_json "$T/grid.glb")" asset.generator)" "jetmesh $(sed -n 's/^#define JM_VERSION_STRING "\(.*\)"/\1/p' "$R/lib/jetmesh.h")"
+check(gltf('empty.gltf').meshes === undefined, 'empty.gltf: has a mesh');
+check(gltf('empty.gltf').nodes?.length === 1, 'empty.gltf: no node');
+check(!fs.existsSync(`${dir}/empty.bin`), 'empty.gltf: a .bin was written for no data');
+const oct = gltf('octahedron.gltf');
+check(oct.buffers[0].uri === 'octahedron.bin', `octahedron.gltf: buffer uri ${oct.buffers[0].uri}`);
+check(fs.statSync(`${dir}/octahedron.bin`).size === oct.buffers[0].byteLength, 'octahedron.bin: size is not byteLength');
+check(gltf('octahedron.embed.gltf').buffers[0].uri.startsWith('data:application/octet-stream;base64,'),
+      'octahedron.embed.gltf: buffer not embedded');
+check(!fs.existsSync(`${dir}/octahedron.embed.bin`), 'octahedron.embed.gltf: a .bin was written');
+check(gltf('grid.glb').asset.generator === `jetmesh ${version}`, `generator "${gltf('grid.glb').asset.generator}"`);
+const np = gltf('octahedron.nonormals.gltf');
+check(JSON.stringify(Object.keys(prim(np).attributes)) === '["POSITION"]', 'no-normals/no-uvs: extra attributes');
+process.exitCode = bad ? 1 : 0;
+JS
 
 # --- 4. Draco: draco3d and Debian's draco_decoder ---------------------------
 # check_draco OUT REF.f32 SRC.json POSITION_BITS
 check_draco() {
-  out=$1 ref=$2 src=$3 bits=$4
-  nv=$(json "$src" vertices) nt=$(json "$src" triangles)
+  out=$1 ref=$2 srcj=$(cat "$3") bits=$4
+  nv=$(field "$srcj" vertices) nt=$(field "$srcj" triangles)
   # Draco quantizes every axis over the largest extent L: error <= L/(2^bits-1)/2.
-  tol=$(node -e 'const s=JSON.parse(require("fs").readFileSync(process.argv[1]));
-    const L=Math.max(...[0,1,2].map(k=>s.max[k]-s.min[k])); console.log(1.5*L/2**+process.argv[2])' "$src" "$bits")
+  tol=$(printf '%s\n' "$srcj" | sed 's/.*"min": \[\([^]]*\)\], "max": \[\([^]]*\)\].*/\1, \2/' |
+        awk -F', ' -v b="$bits" '{ L = 0; for (k = 1; k <= 3; k++) if ($(k+3) - $k > L) L = $(k+3) - $k;
+                                   printf "%.9g\n", 1.5 * L / 2 ^ b }')
   d=$(node "$JS/draco_decode.mjs" "$T/$out" --positions "$T/$out.dec.f32" --extract "$T/$out.x.drc") ||
     { echo "$d" >&2; echo "t_writers: FAIL: draco3d: $out" >&2; return 1; }
-  expect_eq "$out: draco3d points" "$(json "$d" points)" "$nv" &&
-  expect_eq "$out: draco3d faces" "$(json "$d" faces)" "$nt" &&
-  expect_eq "$out: draco3d collapsed faces" "$(json "$d" collapsed_faces)" 0 &&
+  expect_eq "$out: draco3d points" "$(field "$d" points)" "$nv" &&
+  expect_eq "$out: draco3d faces" "$(field "$d" faces)" "$nt" &&
+  expect_eq "$out: draco3d collapsed faces" "$(field "$d" collapsed_faces)" 0 &&
   node "$JS/compare_positions.mjs" "$ref" "$T/$out.dec.f32" --tol "$tol" >"$T/$out.cmp1" ||
     { cat "$T/$out.cmp1" >&2; echo "t_writers: FAIL: $out: draco3d positions" >&2; return 1; }
   draco_decoder -i "$T/$out.x.drc" -o "$T/$out.dec.obj" >/dev/null ||
@@ -132,7 +137,7 @@ check_draco() {
   expect_eq "$out: draco_decoder faces" "$(grep -c '^f ' "$T/$out.dec.obj")" "$nt" &&
   node "$JS/compare_positions.mjs" "$ref" "$T/$out.dec.obj" --tol "$tol" >"$T/$out.cmp2" ||
     { cat "$T/$out.cmp2" >&2; echo "t_writers: FAIL: $out: draco_decoder positions" >&2; return 1; }
-  echo "t_writers:   $out: $nv points, $nt faces, max error $(json "$(cat "$T/$out.cmp1")" max_error_a_to_b) (draco3d), $(json "$(cat "$T/$out.cmp2")" max_error_a_to_b) (draco_decoder), bound $tol"
+  echo "t_writers:   $out: $nv points, $nt faces, max error $(field "$(cat "$T/$out.cmp1")" max_error_a_to_b) (draco3d), $(field "$(cat "$T/$out.cmp2")" max_error_a_to_b) (draco_decoder), bound $tol"
 }
 note "decoding Draco outputs"
 for m in octahedron icosphere_3 grid; do
@@ -193,7 +198,8 @@ POLYGONS 0 0
   expect_eq "$1: size" "$size" "$(($(printf '%s\n' "$text" | wc -c) + 32 * $2 + 16 * $3))"
 }
 for m in octahedron icosphere_3 grid empty; do
-  nv=$(json "$T/$m.obj.src.json" vertices) nt=$(json "$T/$m.obj.src.json" triangles)
+  srcj=$(cat "$T/$m.obj.src.json")
+  nv=$(field "$srcj" vertices) nt=$(field "$srcj" triangles)
   check_obj "$m.obj" "$nv" "$nt" || fail "$m.obj"
   check_ply "$m.ply" "$nv" "$nt" || fail "$m.ply"
   check_vtk "$m.vtk" "$nv" "$nt" || fail "$m.vtk"
