@@ -504,6 +504,13 @@ static void test_xyz_sizes(void **state)
     jmf_frame_free(&fr);
 }
 
+static size_t put_be64(unsigned char *b, size_t n, uint64_t u)
+{
+    int k;
+    for (k = 7; k >= 0; k--) b[n++] = (unsigned char)(u >> (8 * k));
+    return n;
+}
+
 static void test_vtk_ascii_and_variants(void **state)
 {
     static const float p[6] = { 0, 0, 0, 1, 2, 3 };
@@ -529,6 +536,43 @@ static void test_vtk_ascii_and_variants(void **state)
     expect_points("# vtk DataFile Version 4.2\nt\nBINARY\nDATASET UNSTRUCTURED_GRID\nPOINTS 0 float\n\nCELLS 0 0\n\n"
                   "CELL_TYPES 0\n\n",
                   "empty.vtk", 0, NULL);
+    /* 5.1 BINARY: big-endian doubles, int64 OFFSETS/CONNECTIVITY, a FIELD array named id */
+    {
+        static const char h[] = "# vtk DataFile Version 5.1\nvtk output\nBINARY\nDATASET UNSTRUCTURED_GRID\n"
+                                "POINTS 2 double\n";
+        static const char c[] = "\nCELLS 3 2\nOFFSETS vtktypeint64\n";
+        static const char k[] = "\nCONNECTIVITY vtktypeint64\n";
+        static const char t[] = "\nCELL_TYPES 2\n";
+        static const char f[] = "\nPOINT_DATA 2\nFIELD FieldData 1\nid 1 2 vtktypeint64\n";
+        unsigned char b[1024];
+        size_t n = 0, i;
+        int64_t ints[3] = { 0, 1, 2 };
+        memcpy(b, h, sizeof h - 1), n = sizeof h - 1;
+        for (i = 0; i < 6; i++) { /* p[] as big-endian doubles */
+            double v = p[i];
+            uint64_t u;
+            memcpy(&u, &v, 8);
+            n = put_be64(b, n, u);
+        }
+        memcpy(b + n, c, sizeof c - 1), n += sizeof c - 1;
+        for (i = 0; i < 3; i++) n = put_be64(b, n, (uint64_t)ints[i]);
+        memcpy(b + n, k, sizeof k - 1), n += sizeof k - 1;
+        for (i = 0; i < 2; i++) n = put_be64(b, n, (uint64_t)ints[i]);
+        memcpy(b + n, t, sizeof t - 1), n += sizeof t - 1;
+        for (i = 0; i < 2; i++) { b[n++] = 0; b[n++] = 0; b[n++] = 0; b[n++] = 1; }
+        memcpy(b + n, f, sizeof f - 1), n += sizeof f - 1;
+        for (i = 0; i < 2; i++) n = put_be64(b, n, (uint64_t)ints[i] + 40);
+        b[n++] = '\n';
+        assert_int_equal(rd(b, n, "bin51.vtk", JMF_IN_AUTO, 0, &fr, err, sizeof err), JMF_OK);
+        assert_int_equal(fr.count, 2);
+        assert_memory_equal(fr.xyz, p, sizeof p);
+        assert_non_null(fr.ids);
+        assert_int_equal(fr.ids[0], 40);
+        assert_int_equal(fr.ids[1], 41);
+        jmf_frame_free(&fr);
+        assert_int_equal(rd(b, n - 5, "bin51.vtk", JMF_IN_AUTO, 0, &fr, err, sizeof err), JMF_E_FORMAT);
+        assert_non_null(strstr(err, "bin51.vtk: byte "));
+    }
     expect_fail("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n0 0 0\n1 x 3\n", "bad.vtk",
                 JMF_E_FORMAT, "bad.vtk:7:", "'x'");
     expect_fail("# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n0 0 0\n1 2\n", "short.vtk",
