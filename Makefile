@@ -17,8 +17,7 @@ PREFIX  ?= /usr/local
 DESTDIR ?=
 
 ALL_CFLAGS   = $(CSTD) $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CFLAGS)
-ALL_CXXFLAGS = -std=c++17 $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP \
-               -I/usr/include/nlohmann -I/usr/include/stb $(CXXFLAGS)
+ALL_CXXFLAGS = -std=c++17 $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CXXFLAGS)
 FMT_LIBS     = -ltinygltf -ldraco -lz
 LIBS         = $(FMT_LIBS) -lstdc++ -lm -pthread
 

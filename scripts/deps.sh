@@ -3,8 +3,8 @@
 # Usage: scripts/deps.sh [build|test|all]   (default: all)
 set -e
 what=${1:-all}
-build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libdraco-dev libcmocka-dev"
-test_pkgs="draco mandoc nodejs npm clang valgrind libclang-rt-14-dev"
+build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev libdraco-dev libcmocka-dev"
+test_pkgs="draco mandoc clang valgrind libclang-rt-14-dev"
 case "$what" in
   build) pkgs="$build_pkgs" ;;
   test|all) pkgs="$build_pkgs $test_pkgs" ;;
@@ -14,6 +14,12 @@ missing=""
 for p in $pkgs; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
 done
+# node and npm may come from another repository (npm is bundled there and the
+# Debian npm package conflicts with it): check the commands, not packages
+if [ "$what" != build ]; then
+  command -v node >/dev/null 2>&1 || missing="$missing nodejs"
+  command -v npm >/dev/null 2>&1 || missing="$missing npm"
+fi
 if [ -n "$missing" ]; then
   if [ "$(id -u)" = 0 ]; then
     echo "deps: installing:$missing"
