@@ -77,7 +77,7 @@ static jmf_status gunzip(const uint8_t *src, size_t n, const jmr_ctx *ctx, uint8
             if (len >= limit) {
                 st = jmr_fail(ctx, JMF_E_LIMIT, jmr_nowhere(),
                               "decompressed size exceeds the limit of %zu bytes%s", limit,
-                              ctx->opt->max_bytes ? " (max_bytes)" : " (default cap; set max_bytes)");
+                              ctx->opt->max_bytes ? " (max_bytes)" : " (built-in cap when max_bytes is 0)");
                 break;
             }
             ncap = cap > limit / 2 ? limit : cap * 2;
@@ -303,7 +303,7 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
         if ((uint64_t)sb.st_size > limit) {
             fclose(fp);
             return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file of %lld bytes exceeds the limit of %zu bytes%s",
-                            (long long)sb.st_size, limit, ctx.opt->max_bytes ? " (max_bytes)" : " (default cap; set max_bytes)");
+                            (long long)sb.st_size, limit, ctx.opt->max_bytes ? " (max_bytes)" : " (built-in cap when max_bytes is 0)");
         }
         if ((uint64_t)sb.st_size >= SIZE_MAX) {
             fclose(fp);
@@ -351,7 +351,7 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
     if (len > limit) {
         free(buf);
         return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file exceeds the limit of %zu bytes%s", limit,
-                        ctx.opt->max_bytes ? " (max_bytes)" : " (default cap; set max_bytes)");
+                        ctx.opt->max_bytes ? " (max_bytes)" : " (built-in cap when max_bytes is 0)");
     }
     st = jmf_read_particles_mem(buf, len, path, ctx.opt, out, err, errlen);
     free(buf);
