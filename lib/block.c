@@ -328,7 +328,7 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    qsort(out->bmap, out->nb, 2 * sizeof(uint32_t), cmp_pair);
+    if (out->nb > 1) qsort(out->bmap, out->nb, 2 * sizeof(uint32_t), cmp_pair);
     if (!meta && want_nrm && out->nv) {
         jm_sph_gather(g, c, &s->hood, lo, hi, &s->soa);
         if (s->soa.n == SIZE_MAX) { out->failed = 1; return; }

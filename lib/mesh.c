@@ -184,15 +184,17 @@ static void copy_task(void *arg, size_t i, int worker)
     jm_context *ctx = job->ctx;
     jm_bout *o = &ctx->bouts[i];
     size_t vb = job->slot_vbase[i], ib = job->slot_ibase[i], pb = job->slot_pbase[i];
-    memcpy(ctx->pos + 3 * vb, o->pos, o->nv * 3 * sizeof(float));
-    memcpy(ctx->nrm + 3 * vb, o->nrm, o->nv * 3 * sizeof(float));
-    memcpy(ctx->uv + 2 * vb, o->uv, o->nv * 2 * sizeof(float));
+    if (o->nv) { /* (a block without vertices may never have allocated) */
+        memcpy(ctx->pos + 3 * vb, o->pos, o->nv * 3 * sizeof(float));
+        memcpy(ctx->nrm + 3 * vb, o->nrm, o->nv * 3 * sizeof(float));
+        memcpy(ctx->uv + 2 * vb, o->uv, o->nv * 2 * sizeof(float));
+    }
     uint32_t *dst = ctx->idx + ib;
     for (size_t t = 0; t < o->ni; t++) {
         uint32_t r = o->tri[t];
         dst[t] = (r & JM_PENDING) ? (JM_PENDING | (uint32_t)(pb + (r & ~JM_PENDING))) : (uint32_t)(vb + r);
     }
-    memcpy(job->pend + 2 * pb, o->pend, o->np * 2 * sizeof(uint32_t));
+    if (o->np) memcpy(job->pend + 2 * pb, o->pend, o->np * 2 * sizeof(uint32_t));
     size_t b = job->first + i;
     if (o->nb) {
         uint32_t *m = jm_alloc(&ctx->mem, o->nb * 2 * sizeof(uint32_t));
@@ -362,7 +364,7 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
     for (size_t s = 0; s < set.cap; s++)
         if (set.keys[s] != JM_HASH_EMPTY) bs->key[k++] = set.keys[s];
     jm_hashmap_free(&set, mem);
-    qsort(bs->key, bs->count, sizeof *bs->key, cmp_u64);
+    if (bs->count > 1) qsort(bs->key, bs->count, sizeof *bs->key, cmp_u64);
     st = jm_hashmap_init(&bs->map, mem, bs->count + 1);
     if (st != JM_OK) return st;
     for (size_t i = 0; i < bs->count; i++) *jm_hashmap_upsert(&bs->map, bs->key[i]) = (uint32_t)i;
@@ -578,9 +580,11 @@ static jm_status make_template(jm_context *ctx)
     ctx->t_nv = ctx->nv;
     ctx->t_ni = ctx->ni;
     if (!ctx->t_pos || !ctx->t_nrm || !ctx->t_idx) { drop_template(ctx); return JM_E_OUT_OF_MEMORY; }
-    memcpy(ctx->t_pos, ctx->pos, ctx->nv * 3 * sizeof(float));
-    memcpy(ctx->t_nrm, ctx->nrm, ctx->nv * 3 * sizeof(float));
-    memcpy(ctx->t_idx, ctx->idx, ctx->ni * sizeof(uint32_t));
+    if (ctx->nv) {
+        memcpy(ctx->t_pos, ctx->pos, ctx->nv * 3 * sizeof(float));
+        memcpy(ctx->t_nrm, ctx->nrm, ctx->nv * 3 * sizeof(float));
+        memcpy(ctx->t_idx, ctx->idx, ctx->ni * sizeof(uint32_t));
+    }
     ctx->have_tmpl = 1;
     ctx->nv = ctx->ni = 0;
     return JM_OK;
