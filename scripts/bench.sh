@@ -1,0 +1,291 @@
+#!/bin/sh
+# bench.sh - runs the fixed benchmark suite (jetmesh bench --json) into BUILD/bench.json and writes BENCHMARKS.md.
+#
+# Usage: scripts/bench.sh [BUILD_DIR]        (make bench builds first, then calls this)
+# Env:   JETMESH_SHARED  the shared data folder (default: ../shared beside the repo)
+#        BENCH_QUICK=1   one timed run per case, no time floor: checks the script
+#                        itself in a minute or two; its numbers are NOT medians
+#        BENCH_MD=FILE   where to write the report (default BENCHMARKS.md)
+# Needs node to turn the JSON into BENCHMARKS.md tables; without it the report
+# holds the bench's own text tables instead.
+# Exit status: 0 every case ran, 1 a case (or the report) failed, 2 usage.
+set -u
+
+BUILD=${1:-build}
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root" || exit 2
+J="$BUILD/jetmesh"
+[ -x "$J" ] || { echo "bench.sh: $J is missing: run make all" >&2; exit 2; }
+SHARED=${JETMESH_SHARED:-../shared}
+MD=${BENCH_MD:-BENCHMARKS.md}
+OUT="$BUILD/bench"
+rm -rf "$OUT"
+mkdir -p "$OUT" || exit 1
+: >"$OUT/commands.sh"
+QUICK=""
+[ "${BENCH_QUICK:-0}" = 1 ] && QUICK="--min-time 0 --repeat 1"
+status=0
+started=$(date +%s)
+load_before=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
+
+# The sph reference case of the issue: cube 0.5 r, smoothing length 2 r, threshold 0.6.
+SPH="--field sph --smoothing-length 2 --threshold 0.6"
+
+# group NAME ARGS... : one `jetmesh bench` run; JSON in $OUT/NAME.json, table in $OUT/NAME.txt
+group() {
+  name=$1
+  shift
+  # shellcheck disable=SC2086
+  set -- "$@" $QUICK
+  echo "$J bench $* --json-out $OUT/$name.json" >>"$OUT/commands.sh"
+  echo "== $name: $J bench $*"
+  "$J" bench "$@" --json-out "$OUT/$name.json" >"$OUT/$name.txt"
+  rc=$?
+  cat "$OUT/$name.txt"
+  echo
+  echo "$name $rc" >>"$OUT/exit"
+  [ "$rc" = 0 ] || { echo "bench.sh: $name: exit $rc" >&2; status=1; }
+}
+
+# --- the suite ----------------------------------------------------------------
+group jet --scene jet --field metasphere,sph --method mt,mc -j 1,2
+
+REAL1="$SHARED/data/derived/dam_break_frame_23_24389_particles.xyz"
+REAL2="$SHARED/data/splashsurf/bunny_frame_14_7705_particles.vtk"
+if [ -f "$REAL1" ] && [ -f "$REAL2" ]; then
+  group real "$REAL1" "$REAL2" -r 0.025 --field metasphere,sph --method mt,mc -j 1,2 --min-time 0 --repeat 3
+else
+  echo "== real: skipped: $REAL1 or $REAL2 is missing (set JETMESH_SHARED)"
+  echo "real skipped" >>"$OUT/exit"
+fi
+
+group block_sph --scene block:10000 --scene block:100000 $SPH --method mc,mt -j 1,2
+group block_meta --scene block:10000 --field metasphere --method mt,mc -j 1,2
+group block_1m --scene block:1000000 $SPH --method mc -j 1,2 --min-time 0 --repeat 3 --write glb
+group spray --scene spray:10000 --field metasphere,sph --method mt -j 1,2 --templates both
+
+# --- a 100-frame jet sequence to GLB vs. 100 process starts ---------------------
+now_ns() { date +%s%N; }
+T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-bench.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT INT TERM
+seq_cmd="$J convert 'samples/jet/jet_{}.csv' -r 0.025 -o \"\$TMP/jet_{}.glb\" -q"
+starts_cmd="for i in \$(seq 100); do $J --version >/dev/null; done"
+echo "$seq_cmd" >>"$OUT/commands.sh"
+echo "$starts_cmd" >>"$OUT/commands.sh"
+echo "== sequence: $seq_cmd"
+seq_ok=false seq_s=null starts_s=null seq_files=0
+if [ -f samples/jet/jet_000.csv ]; then
+  t0=$(now_ns)
+  if "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$T/jet_{}.glb" -q >"$OUT/sequence.log" 2>&1; then
+    t1=$(now_ns)
+    seq_files=$(find "$T" -name 'jet_*.glb' | wc -l)
+    [ "$seq_files" -eq 100 ] && seq_ok=true
+    seq_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
+  else
+    echo "bench.sh: convert failed (see $OUT/sequence.log)" >&2
+  fi
+fi
+t0=$(now_ns)
+i=0
+while [ $i -lt 100 ]; do "$J" --version >/dev/null; i=$((i + 1)); done
+t1=$(now_ns)
+starts_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
+echo "sequence: $seq_s s ($seq_files GLB files, ok=$seq_ok); 100 process starts: $starts_s s"
+
+# --- build/bench.json -------------------------------------------------------------
+load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+if [ -n "$(git status --porcelain --untracked-files=no 2>/dev/null)" ]; then commit="$commit-dirty"; fi
+mem_kb=$(awk '/^MemTotal:/ { print $2 }' /proc/meminfo 2>/dev/null)
+jstr() { printf '"%s"' "$(printf '%s' "$1" | sed 's/\\/\\\\/g; s/"/\\"/g')"; }
+{
+  printf '{\n  "commit": %s,\n  "date": %s,\n  "quick": %s,\n' "$(jstr "$commit")" \
+    "$(jstr "$(date -u +%Y-%m-%dT%H:%M:%SZ)")" "$([ -n "$QUICK" ] && echo true || echo false)"
+  printf '  "load_before": %s,\n  "load_after": %s,\n' "$(jstr "$load_before")" "$(jstr "$load_after")"
+  printf '  "memory_bytes": %s,\n  "shared": %s,\n  "groups": [\n' "$(( ${mem_kb:-0} * 1024 ))" "$(jstr "$SHARED")"
+  first=1
+  while read -r name rc; do
+    [ $first = 1 ] || printf ',\n'
+    first=0
+    cmd=$(grep -F -- "--json-out $OUT/$name.json" "$OUT/commands.sh" 2>/dev/null | head -n 1)
+    printf '    {"name": %s, "exit": %s, "command": %s, "result": ' "$(jstr "$name")" \
+      "$(jstr "$rc")" "$(jstr "$cmd")"
+    if [ -s "$OUT/$name.json" ]; then cat "$OUT/$name.json"; else printf 'null'; fi
+    printf '}'
+  done <"$OUT/exit"
+  printf '\n  ],\n  "sequence": {"frames": 100, "glb_files": %s, "ok": %s, "convert_s": %s, ' \
+    "$seq_files" "$seq_ok" "$seq_s"
+  printf '"process_starts": 100, "starts_s": %s,\n    "convert_command": %s, "starts_command": %s}\n}\n' \
+    "$starts_s" "$(jstr "$seq_cmd")" "$(jstr "$starts_cmd")"
+} >"$BUILD/bench.json"
+echo "wrote $BUILD/bench.json"
+
+# --- BENCHMARKS.md -------------------------------------------------------------
+elapsed=$(( $(date +%s) - started ))
+if command -v node >/dev/null 2>&1; then
+  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" >"$MD.tmp" <<'EOF' || status=1
+const fs = require("fs");
+const [file, cmdfile, elapsed] = process.argv.slice(2);
+const B = JSON.parse(fs.readFileSync(file, "utf8"));
+const cmds = fs.readFileSync(cmdfile, "utf8").trim();
+const out = [];
+const p = (s = "") => out.push(s);
+const groups = B.groups.filter((g) => g.result);
+const m = groups.length ? groups[0].result.machine : {cpu_model: "?", cores: "?", os: "?"};
+const ver = groups.length ? groups[0].result.jetmesh_version : "?";
+const f = (x, d = 3) => (x == null || !isFinite(x) ? "–" : Number(x).toFixed(d));
+const ms = (x) => x == null ? "–" : x >= 100 ? x.toFixed(1) : x >= 1 ? x.toFixed(3) : x.toFixed(4);
+const rate = (x) => x == null ? "–" : x >= 1e6 ? (x / 1e6).toFixed(2) + " M" : (x / 1e3).toFixed(1) + " k";
+const mib = (b) => (b / 1048576).toFixed(1);
+const mb = (b) => (b / 1e6).toFixed(1);
+const X = (r) => (r == null ? "" : r.toFixed(2) + "×");
+
+function find(group, name, field, method, threads, templates = true) {
+  const g = B.groups.find((g) => g.name === group);
+  if (!g || !g.result) return null;
+  return g.result.cases.find((c) => c.name === name && c.field === field && c.method === method &&
+    c.threads === threads && c.templates === templates && c.status === "ok") || null;
+}
+const sec = (c) => (c ? c.ms.total.median / 1e3 : null);
+
+p("# jetmesh benchmarks");
+p();
+p("Generated by `make bench` (`scripts/bench.sh`); do not edit by hand: rerun it. " +
+  "Raw numbers: `build/bench.json` (one `jetmesh bench --json` document per group) and the " +
+  "bench's own text tables in `build/bench/*.txt`.");
+p();
+if (B.quick) p("**QUICK RUN (BENCH_QUICK=1): one timed run per case, not medians. Do not quote these numbers.**\n");
+p(`- Date: ${B.date}`);
+p(`- Machine: ${m.cpu_model}, ${m.cores} cores, ${(B.memory_bytes / 1073741824).toFixed(1)} GiB memory, ${m.os}`);
+p(`- Commit: \`${B.commit}\` (jetmesh ${ver}; "-dirty": uncommitted changes to tracked files were built in)`);
+p(`- Suite wall time: ${elapsed} s; load average (1, 5, 15 min) before: ${B.load_before}, after: ${B.load_after} ` +
+  "(other work on the machine during the run makes the numbers noisier, 2-thread cases most)");
+p();
+p("Method: `jetmesh bench` meshes each case repeatedly with `jm_mesh_particles` on one reused context, " +
+  "after one untimed warm-up run, until at least 5 timed runs and 1 s (the 1M block and the real " +
+  "frames: exactly 3 runs). Times are `jm_stats` milliseconds; **total is the median**, spread is " +
+  "min and p90 (nearest rank) of the timed runs; stages are medians. part/s and tri/s come from the " +
+  "median total. lib peak = `jm_stats.peak_bytes` (the library's own heap, mesh included; max over " +
+  "the runs); RSS peak = the process's peak resident set during the case (VmHWM, reset before each " +
+  "case), which includes the input particles. ×1T = speed-up over the same case with 1 thread; " +
+  "×tpl = speed-up of sphere templates on over off (`no_templates`). MB = 10⁶ bytes, MiB = 2²⁰.");
+p();
+
+// ---- targets
+function row(target, value, ok) {
+  p(`| ${target} | ${value} | ${ok == null ? "not measured" : ok ? "**met**" : "**not met**"} |`);
+}
+p("## Targets");
+p();
+p("| target | measured | status |");
+p("|---|---|---|");
+const b1m1 = find("block_1m", "block:1000000", "sph", "mc", 1), b1m2 = find("block_1m", "block:1000000", "sph", "mc", 2);
+row("1M block, sph mc, 2 threads ≤ 3.0 s", b1m2 ? f(sec(b1m2)) + " s" : "–", b1m2 ? sec(b1m2) <= 3.0 : null);
+row("1M block, sph mc, 1 thread ≤ 5.0 s", b1m1 ? f(sec(b1m1)) + " s" : "–", b1m1 ? sec(b1m1) <= 5.0 : null);
+const peak = [b1m1, b1m2].filter(Boolean).reduce((a, c) => Math.max(a, c.lib_peak_bytes), 0);
+const rss = [b1m1, b1m2].filter(Boolean).reduce((a, c) => Math.max(a, c.peak_rss_bytes), 0);
+row("1M block peak memory ≤ 240 MB incl. mesh (lib peak)", peak ? `${mb(peak)} MB lib peak (process RSS peak ${mb(rss)} MB)` : "–",
+    peak ? peak <= 240e6 : null);
+const b100k2 = find("block_sph", "block:100000", "sph", "mc", 2);
+row("100k block, sph mc, 2 threads ≤ 0.3 s", b100k2 ? f(sec(b100k2)) + " s" : "–", b100k2 ? sec(b100k2) <= 0.3 : null);
+const jet1 = find("jet", "jet", "metasphere", "mt", 1), jet2 = find("jet", "jet", "metasphere", "mt", 2);
+row("jet (frame 99), metasphere mt, cube r/2, median ≤ 0.1 ms (1 thread)",
+    jet1 ? `${ms(jet1.ms.total.median)} ms (2 threads: ${jet2 ? ms(jet2.ms.total.median) : "–"} ms)` : "–",
+    jet1 ? jet1.ms.total.median <= 0.1 : null);
+row("1M block: 2 threads ≥ 1.8× 1 thread", b1m2 && b1m2.speedup_vs_1_thread ? f(b1m2.speedup_vs_1_thread, 2) + "×" : "–",
+    b1m2 && b1m2.speedup_vs_1_thread ? b1m2.speedup_vs_1_thread >= 1.8 : null);
+const sp1 = find("spray", "spray:10000", "metasphere", "mt", 1), sps = find("spray", "spray:10000", "sph", "mt", 1);
+row("spray 10k: template path ≥ 3× general path (metasphere mt, 1 thread)",
+    sp1 && sp1.template_speedup ? `${f(sp1.template_speedup, 1)}× (sph: ${sps && sps.template_speedup ? f(sps.template_speedup, 1) + "×" : "–"})` : "–",
+    sp1 && sp1.template_speedup ? sp1.template_speedup >= 3 : null);
+const w2 = b1m2 && b1m2.write ? b1m2.write.fraction_of_total : null, w1 = b1m1 && b1m1.write ? b1m1.write.fraction_of_total : null;
+row("GLB write of the 1M mesh ≤ 15 % of total (write / (mesh + write), 2 threads)",
+    w2 != null ? `${f(100 * w2, 1)} % (${ms(b1m2.ms.write.median)} ms for ${mb(b1m2.write.bytes)} MB; 1 thread: ${w1 != null ? f(100 * w1, 1) : "–"} %)` : "–",
+    w2 != null ? w2 <= 0.15 : null);
+p();
+
+// ---- reference
+p("## Reference: other tools on this machine class (from the issue)");
+p();
+p("Seconds, 1 thread / 2 threads. The blocks are `block N` (lattice spacing 2r, jittered), sph, cube 0.5 r, " +
+  "smoothing length 2 r, threshold 0.6; jetmesh's column is its sph mc case of this run (the jet: " +
+  "metasphere mt, the product's own case, and sph mc).");
+p();
+p("| case | splashsurf 0.14 | OpenVDB 10 | jetmesh (this run) |");
+p("|---|---|---|---|");
+const pair = (a, b) => `${a ? f(sec(a), a && sec(a) < 0.1 ? 4 : 2) : "–"} / ${b ? f(sec(b), b && sec(b) < 0.1 ? 4 : 2) : "–"}`;
+p(`| jet | 0.01 / 0.01 | 0.03 / 0.03 | metasphere mt ${pair(jet1, jet2)}; sph mc ${pair(find("jet", "jet", "sph", "mc", 1), find("jet", "jet", "sph", "mc", 2))} |`);
+p(`| 10k block | 0.15 / 0.08 | 0.43 / 0.16 | ${pair(find("block_sph", "block:10000", "sph", "mc", 1), find("block_sph", "block:10000", "sph", "mc", 2))} |`);
+p(`| 100k block | 1.29 / 0.62 | 2.95 / 1.62 | ${pair(find("block_sph", "block:100000", "sph", "mc", 1), b100k2)} |`);
+p(`| 1M block | 10.2 / 6.3 | 30.0 / 16.0 | ${pair(b1m1, b1m2)} |`);
+p(`| peak memory at 1M | 244 MB | 509 MB | ${peak ? mb(peak) + " MB lib peak, " + mb(rss) + " MB RSS" : "–"} |`);
+p();
+
+// ---- the groups
+const titles = {
+  jet: "Jet (125 particles, frame 99), both fields and methods",
+  real: "Real frames (radius 0.025; 3 runs each)",
+  block_sph: "Blocks 10k and 100k, sph (the reference case: mc)",
+  block_meta: "Block 10k, metasphere",
+  block_1m: "Block 1M, sph mc, with a GLB write stage (3 runs)",
+  spray: "Spray 10k isolated droplets, templates off (general path) and on",
+};
+for (const g of B.groups) {
+  p(`## ${titles[g.name] || g.name}`);
+  p();
+  if (g.exit === "skipped") { p("Skipped: the shared data folder (`" + B.shared + "`) is missing."); p(); continue; }
+  p("```sh\n" + g.command + "\n```");
+  p();
+  if (!g.result) { p(`No result (exit ${g.exit}).`); p(); continue; }
+  const hasWrite = g.result.cases.some((c) => c.write);
+  p("| case | field | method | cube | thr | tpl | runs | total ms (median) | min | p90 | prepare | field | extract | attrs |" +
+    (hasWrite ? " write |" : "") + " part/s | tri/s | vertices | triangles | lib peak MiB | RSS peak MiB | ×1T | ×tpl |");
+  p("|---|---|---|--:|--:|---|--:|--:|--:|--:|--:|--:|--:|--:|" + (hasWrite ? "--:|" : "") + "--:|--:|--:|--:|--:|--:|--:|--:|");
+  for (const c of g.result.cases) {
+    const head = `| ${c.name} | ${c.field} | ${c.method} | ${c.cube_size} | ${c.threads} | ${c.templates ? "on" : "off"} |`;
+    if (c.status !== "ok") { p(`${head} FAILED: ${c.error} |`); continue; }
+    p(`${head} ${c.repetitions} | **${ms(c.ms.total.median)}** | ${ms(c.ms.total.min)} | ${ms(c.ms.total.p90)} | ` +
+      `${ms(c.ms.prepare.median)} | ${ms(c.ms.field.median)} | ${ms(c.ms.extract.median)} | ${ms(c.ms.attributes.median)} |` +
+      (hasWrite ? ` ${c.write ? ms(c.ms.write.median) : "–"} |` : "") +
+      ` ${rate(c.particles_per_s)} | ${rate(c.triangles_per_s)} | ${c.vertices} | ${c.triangles} | ` +
+      `${mib(c.lib_peak_bytes)} | ${mib(c.peak_rss_bytes)} | ${X(c.speedup_vs_1_thread)} | ${X(c.template_speedup)} |`);
+  }
+  p();
+}
+
+// ---- sequence
+const S = B.sequence;
+p("## A 100-frame jet sequence to GLB vs. 100 process starts");
+p();
+p("| what | wall s |");
+p("|---|--:|");
+p(`| \`jetmesh convert\` of samples/jet (100 frames → GLB, default threads) | ${S.convert_s == null ? "failed or no samples" : f(S.convert_s) + (S.ok ? "" : " (not 100 files)")} |`);
+p(`| 100 × \`jetmesh --version\` (process start and exit) | ${f(S.starts_s)} |`);
+p();
+p("```sh\n" + S.convert_command + "\n" + S.starts_command + "\n```");
+p();
+p("## Commands");
+p();
+p("Every command of this run, in order (`$JETMESH_SHARED` = `" + B.shared + "`):");
+p();
+p("```sh\n" + cmds + "\n```");
+p();
+process.stdout.write(out.join("\n"));
+EOF
+else
+  {
+    echo "# jetmesh benchmarks"
+    echo
+    echo "Generated by \`make bench\`; node was not found, so these are the bench's text tables."
+    echo
+    echo "- Date: $(date -u +%Y-%m-%dT%H:%M:%SZ); commit \`$commit\`; $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'), $(nproc) cores"
+    echo
+    for f in "$OUT"/*.txt; do printf '```\n'; cat "$f"; printf '```\n\n'; done
+    echo "Sequence: convert $seq_s s, 100 process starts $starts_s s."
+    echo
+    printf '## Commands\n\n```sh\n'; cat "$OUT/commands.sh"; printf '```\n'
+  } >"$MD.tmp"
+fi
+if [ -s "$MD.tmp" ]; then mv "$MD.tmp" "$MD" && echo "wrote $MD"; else rm -f "$MD.tmp"; status=1; fi
+echo "bench.sh: done in $(( $(date +%s) - started )) s"
+exit $status
