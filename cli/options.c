@@ -108,6 +108,9 @@ void options_convert_help(FILE *f)
         "      --uv-scale S            world units per texture repeat (default 16 R)\n"
         "      --no-normals            write no normals\n"
         "      --no-templates          mesh isolated particles through the lattice too\n"
+        "      --uv-axis x|y|z         --uv planar: the projection axis (default z)\n"
+        "      --no-compensation       metasphere: leave vertices on the surface (no\n"
+        "                              chord-sag offset; the mesh is then a bit small)\n"
         "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
         "                              limit; default half the physical memory)\n"
         "\n"
@@ -162,7 +165,7 @@ void options_generate_help(FILE *f)
 
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
-    O_NOTEMPLATES, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
+    O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
     O_FRAMES, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
 };
 
@@ -179,6 +182,8 @@ static const struct option convert_long[] = {
     {"uv-scale", required_argument, 0, O_UVSCALE},
     {"no-normals", no_argument, 0, O_NONORMALS},
     {"no-templates", no_argument, 0, O_NOTEMPLATES},
+    {"uv-axis", required_argument, 0, O_UVAXIS},
+    {"no-compensation", no_argument, 0, O_NOCOMP},
     {"output", required_argument, 0, 'o'},
     {"format", required_argument, 0, O_FORMAT},
     {"draco", no_argument, 0, O_DRACO},
@@ -296,6 +301,13 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_UVSCALE: rc = positive(cmd, "--uv-scale", optarg, &o->params.uv_scale); break;
         case O_NONORMALS: o->params.no_normals = 1; break;
         case O_NOTEMPLATES: o->params.no_templates = 1; break;
+        case O_NOCOMP: o->params.no_compensation = 1; break;
+        case O_UVAXIS:
+            if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
+            else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;
+            else if (!strcmp(optarg, "z")) o->params.uv_axis = 3;
+            else rc = options_usage_error(cmd, "--uv-axis is x, y or z, not '%s'", optarg);
+            break;
         case 'o': o->output = optarg; break;
         case O_FORMAT:
             k = jmf_output_format_parse(optarg);
