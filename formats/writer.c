@@ -9,6 +9,7 @@
 
 #include "atomic_file.h"
 #include "draco_wrap.h"
+#include "draco_bits.h"
 #include "gltf_wrap.h"
 #include "write_formats.h"
 
@@ -101,10 +102,13 @@ static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer
     return st;
 }
 
-static jmf_draco_params draco_params(const jmf_write_options *opt)
+static jmf_draco_params draco_params(const jmf_write_options *opt, const jm_mesh *mesh)
 {
     jmf_draco_params p;
     jmf_draco_params_default(&p);
+    /* default: the fewest bits from 16 at which no sliver triangle collapses */
+    if (mesh && mesh->triangle_count && !(opt && opt->draco_position_bits > 0))
+        p.position_bits = jmf_draco_auto_position_bits(mesh, NULL);
     if (opt) {
         if (opt->draco_position_bits > 0) p.position_bits = opt->draco_position_bits;
         if (opt->draco_normal_bits > 0) p.normal_bits = opt->draco_normal_bits;
@@ -117,7 +121,7 @@ static jmf_draco_params draco_params(const jmf_write_options *opt)
 static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
                             size_t *bytes, char *err, size_t errlen)
 {
-    jmf_draco_params p = draco_params(opt);
+    jmf_draco_params p = draco_params(opt, mesh);
     jmf_draco_blob blob;
     jmf_status st = jmf_draco_encode(mesh, &p, path, &blob, err, errlen);
     if (st) return st;
@@ -148,7 +152,7 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
     p.generator = default_generator(opt);
     p.z_up = opt ? opt->z_up : 0;
     p.draco = draco;
-    p.draco_params = draco_params(opt);
+    p.draco_params = draco_params(opt, draco ? mesh : NULL);
     p.name = path;
     char *bin_path = NULL;
     if (p.container == JMF_GLTF_SEPARATE) {

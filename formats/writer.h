@@ -27,7 +27,8 @@ typedef struct jmf_write_options {
     int embed;                /**< .gltf: embed the buffer as a data: URI */
     int z_up;                 /**< 1: the simulation is +Z up; rotate to glTF's
                                    +Y up (x, y, z) -> (x, z, -y) for glTF/GLB */
-    int draco_position_bits;  /**< default 16 (never below 14 by default) */
+    int draco_position_bits;  /**< default: the fewest bits from 16 to 24 at which no
+                                   triangle collapses under quantisation */
     int draco_normal_bits;    /**< default 10 */
     int draco_uv_bits;        /**< default 12 */
     int draco_speed;          /**< 0-10 encoder speed; default 5 */
