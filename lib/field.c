@@ -1,5 +1,6 @@
 /* field.c - the metasphere and SPH fields: splatting onto block nodes, gradients at points. */
 #include "field.h"
+#include "splat.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,37 +39,6 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
     return 1;
 }
 
-/* floor and ceil without libm calls (x within int range) */
-static inline int ifloor(float x)
-{
-    int t = (int)x;
-    return t - (x < (float)t);
-}
-static inline int iceil(float x)
-{
-    int t = (int)x;
-    return t + (x > (float)t);
-}
-
-/* index range [*a, *b) of the n nodes t[i] = t[0] + i h (as rounded) within
- * [lo, hi]; the estimate from the spacing is corrected against t[] itself */
-static void node_span(const float *t, int n, float inv_h, float lo, float hi, int *a, int *b)
-{
-    float flo = (lo - t[0]) * inv_h, fhi = (hi - t[0]) * inv_h;
-    if (flo > (float)n) flo = (float)n;
-    if (fhi < -1.0f) fhi = -1.0f;
-    int i = iceil(flo < 0.0f ? 0.0f : flo);
-    int j = ifloor(fhi > (float)n ? (float)n : fhi) + 1;
-    if (i > n) i = n;
-    if (j > n) j = n;
-    while (i < n && t[i] < lo) i++;
-    while (i > 0 && t[i - 1] >= lo) i--;
-    while (j > 0 && t[j - 1] > hi) j--;
-    while (j < n && t[j] <= hi) j++;
-    *a = i;
-    *b = j > i ? j : i;
-}
-
 /* The splatting loops are built twice, for AVX2 machines and for any x86-64,
  * chosen at load time. No FMA contraction (-std=c11 implies
  * -ffp-contract=off), so both give the same bits. */
@@ -77,62 +47,6 @@ static void node_span(const float *t, int n, float inv_h, float lo, float hi, in
 #else
 #define JM_CLONES
 #endif
-
-JM_CLONES static void sample_sph(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                                 const float *y, const float *z, int n, float *f, float *pad)
-{
-    /* Splats into pad, whose rows are JM_PAD(n) long (a multiple of 8), in
-     * aligned runs of 8 nodes: no remainder loops, one or two AVX steps per
-     * row of the support's chord. Then copies the n x n x n nodes out. */
-    const int ns = JM_PAD(n);
-    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;
-    float xp[JM_PAD_MAX];
-    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;
-    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
-    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);
-    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R, bz0 = z[0] - R, bz1 = z[n - 1] + R;
-    for (size_t k = 0; k < cells; k++) {
-        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
-            const float *q = GP(g, p);
-            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue;
-            if (g->isolated[p]) continue;
-            const float wgt = g->weight[p];
-            int i0, i1, j0, j1, k0, k1;
-            node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);
-            node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);
-            node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);
-            if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;
-            const float qx = q[0];
-            for (int kk = k0; kk < k1; kk++) {
-                float dz = z[kk] - q[2], dz2 = dz * dz;
-                for (int jj = j0; jj < j1; jj++) {
-                    float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;
-                    if (dyz2 >= R2) continue;
-                    /* the chord of the support ball along this row, widened
-                     * to whole runs of 8 (the kernel is 0 beyond support) */
-                    float half = sqrtf(R2 - dyz2);
-                    int a = iceil((qx - half - x[0]) * inv_h), b = ifloor((qx + half - x[0]) * inv_h) + 1;
-                    a = a > i0 ? a : i0;
-                    b = b < i1 ? b : i1;
-                    if (a >= b) continue;
-                    a &= ~7;
-                    b = (b + 7) & ~7;
-                    float *restrict row = pad + ((size_t)kk * n + jj) * ns;
-                    for (int ii = a; ii < b; ii += 8) {
-                        float acc[8];
-                        for (int l = 0; l < 8; l++) {
-                            float dx = xp[ii + l] - qx;
-                            float qq = sqrtf(dx * dx + dyz2) * inv;
-                            acc[l] = row[ii + l] + wgt * jm_cubic_w(qq);
-                        }
-                        for (int l = 0; l < 8; l++) row[ii + l] = acc[l];
-                    }
-                }
-            }
-        }
-    }
-    for (size_t r = 0; r < (size_t)n * n; r++) memcpy(f + r * n, pad + r * ns, (size_t)n * sizeof *f);
-}
 
 JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
                         const float *y, const float *z, int n, float *f, uint32_t *win)
@@ -216,7 +130,7 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
 void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
                      const float *y, const float *z, int n, float *f, uint32_t *win, float *pad)
 {
-    if (c->field == JM_FIELD_SPH) sample_sph(g, c, hood, x, y, z, n, f, pad);
+    if (c->field == JM_FIELD_SPH) jm_sph_sample(g, c, hood, x, y, z, n, f, pad);
     else sample_meta(g, c, hood, x, y, z, n, f, win);
 }
 

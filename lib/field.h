@@ -14,6 +14,37 @@ typedef struct jm_hood {
     size_t particles;   /* non-isolated particles in range */
 } jm_hood;
 
+/* floor and ceil without libm calls (x within int range) */
+static inline int ifloor(float x)
+{
+    int t = (int)x;
+    return t - (x < (float)t);
+}
+static inline int iceil(float x)
+{
+    int t = (int)x;
+    return t + (x > (float)t);
+}
+
+/* index range [*a, *b) of the n nodes t[i] = t[0] + i h (as rounded) within
+ * [lo, hi]; the estimate from the spacing is corrected against t[] itself */
+static inline void node_span(const float *t, int n, float inv_h, float lo, float hi, int *a, int *b)
+{
+    float flo = (lo - t[0]) * inv_h, fhi = (hi - t[0]) * inv_h;
+    if (flo > (float)n) flo = (float)n;
+    if (fhi < -1.0f) fhi = -1.0f;
+    int i = iceil(flo < 0.0f ? 0.0f : flo);
+    int j = ifloor(fhi > (float)n ? (float)n : fhi) + 1;
+    if (i > n) i = n;
+    if (j > n) j = n;
+    while (i < n && t[i] < lo) i++;
+    while (i > 0 && t[i - 1] >= lo) i--;
+    while (j > 0 && t[j - 1] > hi) j--;
+    while (j < n && t[j] <= hi) j++;
+    *a = i;
+    *b = j > i ? j : i;
+}
+
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 

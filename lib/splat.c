@@ -1,0 +1,133 @@
+/* splat.c - SPH field sampling on a block: the kernel splatted row by row in SIMD chosen at run time. */
+#include "splat.h"
+#include <math.h>
+#include <pthread.h>
+#include <string.h>
+
+#define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+#define INLINE static inline __attribute__((always_inline))
+
+/* row[i] += wgt * (((0.25 A) A) A - (B B) B), A = max(2 - q, 0),
+ * B = max(1 - q, 0), q = sqrt((xp[i] - qx)^2 + dyz2) * inv, for i in [a, b) */
+INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz2, float inv, float wgt)
+{
+    for (int i = a; i < b; i++) {
+        float dx = xp[i] - qx;
+        float q = sqrtf(dx * dx + dyz2) * inv;
+        float A = 2.0f - q, B = 1.0f - q;
+        A = A > 0.0f ? A : 0.0f;
+        B = B > 0.0f ? B : 0.0f;
+        float w = 0.25f * A * A * A - B * B * B;
+        row[i] = row[i] + wgt * w;
+    }
+}
+
+/* Splats every particle of the hood whose support reaches the block into
+ * pad, whose rows are JM_PAD(n) long (a multiple of 8), in aligned runs of 8
+ * nodes: one or two vector steps per row of the support's chord. */
+#define SAMPLE_BODY(ROW)                                                                                   \
+    const int ns = JM_PAD(n);                                                                              \
+    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
+    float xp[JM_PAD_MAX];                                                                                  \
+    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;                \
+    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                           \
+    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);                                                      \
+    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R;                   \
+    const float bz0 = z[0] - R, bz1 = z[n - 1] + R;                                                        \
+    for (size_t k = 0; k < cells; k++) {                                                                   \
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
+            const float *q = GP(g, p);                                                                     \
+            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue; \
+            if (g->isolated[p]) continue;                                                                  \
+            const float wgt = g->weight[p];                                                                \
+            int i0, i1, j0, j1, k0, k1;                                                                    \
+            node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);                                          \
+            node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);                                          \
+            node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);                                          \
+            if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;                                                \
+            const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
+            for (int kk = k0; kk < k1; kk++) {                                                             \
+                float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
+                float *slab = pad + (size_t)kk * n * ns;                                                   \
+                for (int jj = j0; jj < j1; jj++) {                                                         \
+                    float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
+                    if (dyz2 >= R2) continue;                                                              \
+                    float half = sqrtf(R2 - dyz2) * inv_h;                                                 \
+                    int a = iceil(cx - half), b = ifloor(cx + half) + 1;                                   \
+                    a = a > i0 ? a : i0;                                                                   \
+                    b = b < i1 ? b : i1;                                                                   \
+                    if (a >= b) continue;                                                                  \
+                    ROW(slab + (size_t)jj * ns, xp, a & ~7, (b + 7) & ~7, qx, dyz2, inv, wgt);             \
+                }                                                                                          \
+            }                                                                                              \
+        }                                                                                                  \
+    }                                                                                                      \
+    for (size_t r = 0; r < (size_t)n * n; r++) memcpy(f + r * n, pad + r * ns, (size_t)n * sizeof *f);
+
+#define SAMPLE_ARGS                                                                                       \
+    const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
+        int n, float *f, float *pad
+
+static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c) }
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+
+INLINE void row_sse2(float *row, const float *xp, int a, int b, float qx, float dyz2, float inv, float wgt)
+{
+    const __m128 vq = _mm_set1_ps(qx), vd = _mm_set1_ps(dyz2), vi = _mm_set1_ps(inv), vw = _mm_set1_ps(wgt);
+    const __m128 two = _mm_set1_ps(2.0f), one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps(), quarter = _mm_set1_ps(0.25f);
+    for (int i = a; i < b; i += 4) {
+        __m128 dx = _mm_sub_ps(_mm_loadu_ps(xp + i), vq);
+        __m128 q = _mm_mul_ps(_mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), vd)), vi);
+        __m128 A = _mm_max_ps(_mm_sub_ps(two, q), zero);
+        __m128 B = _mm_max_ps(_mm_sub_ps(one, q), zero);
+        __m128 w = _mm_sub_ps(_mm_mul_ps(_mm_mul_ps(_mm_mul_ps(quarter, A), A), A), _mm_mul_ps(_mm_mul_ps(B, B), B));
+        _mm_storeu_ps(row + i, _mm_add_ps(_mm_loadu_ps(row + i), _mm_mul_ps(vw, w)));
+    }
+}
+
+__attribute__((target("avx2"))) INLINE void row_avx2(float *row, const float *xp, int a, int b, float qx,
+                                                     float dyz2, float inv, float wgt)
+{
+    const __m256 vq = _mm256_set1_ps(qx), vd = _mm256_set1_ps(dyz2), vi = _mm256_set1_ps(inv), vw = _mm256_set1_ps(wgt);
+    const __m256 two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
+    const __m256 quarter = _mm256_set1_ps(0.25f);
+    for (int i = a; i < b; i += 8) {
+        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vq);
+        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), vd)), vi);
+        __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero);
+        __m256 B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
+        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
+                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(vw, w)));
+    }
+}
+
+static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2) }
+__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2) }
+
+typedef void (*sample_fn)(SAMPLE_ARGS);
+static sample_fn chosen;
+static pthread_once_t once = PTHREAD_ONCE_INIT;
+/* JM_SPLAT_VARIANT (a build option for tests): 0 the fastest the CPU runs,
+ * 1 plain C, 2 SSE2 */
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+static void choose(void)
+{
+    __builtin_cpu_init();
+    chosen = __builtin_cpu_supports("avx2") ? sample_avx2 : sample_sse2;
+    if (JM_SPLAT_VARIANT == 1) chosen = sample_c;
+    if (JM_SPLAT_VARIANT == 2) chosen = sample_sse2;
+}
+
+void jm_sph_sample(SAMPLE_ARGS)
+{
+    pthread_once(&once, choose);
+    chosen(g, c, hood, x, y, z, n, f, pad);
+}
+#else
+void jm_sph_sample(SAMPLE_ARGS) { sample_c(g, c, hood, x, y, z, n, f, pad); }
+#endif

@@ -1,0 +1,12 @@
+/* splat.h - SPH field sampling on a block: the kernel splatted row by row in SIMD chosen at run time. */
+#ifndef JETMESH_SPLAT_H
+#define JETMESH_SPLAT_H
+#include "field.h"
+
+/* Samples phi on the n^3 nodes x[i], y[j], z[k] into f, using pad
+ * (n * n * JM_PAD(n) floats) as the working buffer. The AVX2, SSE2 and plain C
+ * variants perform the same IEEE operations in the same order (no FMA), so
+ * every machine gives the same bits. */
+void jm_sph_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
+                   const float *z, int n, float *f, float *pad);
+#endif
