@@ -142,7 +142,7 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
         }
     }
     float ta = 0.0f, tb = 1.0f;
-    const float tol = 1e-5f;
+    const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
     for (int it = 0; it < 4; it++) {
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
         float f = cand_value(g, c, cand, p) - c->threshold;

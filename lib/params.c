@@ -70,7 +70,13 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
         c->influence = reach + c->margin;
         c->cell = c->link > c->influence ? c->link : c->influence;
     }
-    c->block = 16;
+    /* blocks about three influence radii wide: measured best for both
+     * fields (bigger blocks waste nodes on thin jets, smaller ones repeat
+     * the per-block work and the stitching) */
+    {
+        int b = (int)lrintf(3.0f * c->influence / c->h);
+        c->block = b < 8 ? 8 : (b > 32 ? 32 : b);
+    }
     c->uv_mode = p.uv_mode;
     c->uv_scale = p.uv_scale;
     c->uv_axis = p.uv_axis - 1;
