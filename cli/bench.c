@@ -1,4 +1,5 @@
 /* bench.c - `jetmesh bench`: times jm_mesh_particles on synthetic scenes or input files, per stage, as a table or JSON. */
+#include "numbers.h"
 #include "bench.h"
 
 #include <dirent.h>
@@ -230,32 +231,6 @@ static void bench_help(FILE *f)
         f);
 }
 
-static int parse_num(const char *s, double *out)
-{
-    if (!s || !*s)
-        return -1;
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || errno || !isfinite(v))
-        return -1;
-    *out = v;
-    return 0;
-}
-
-static int parse_whole(const char *s, long lo, long hi, long *out)
-{
-    if (!s || !*s)
-        return -1;
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end || errno || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
-}
-
 /* A particle count: digits with an optional k or M suffix, or 1e6. */
 static int parse_count(const char *s, size_t *out)
 {
@@ -292,7 +267,7 @@ static int parse_scene(const char *spec, bench_input *in, int *needs_n)
         in->frame = SCENE_JET_FRAMES - 1;
         if (colon) {
             long f;
-            if (parse_whole(colon + 1, 0, 1000000, &f) != 0)
+            if (cli_parse_long(colon + 1, 0, 1000000, &f) != 0)
                 return -2;
             in->frame = (int)f;
             snprintf(in->name, sizeof in->name, "jet:%d", in->frame);
@@ -380,7 +355,7 @@ static int item_method(bench_opts *o, const char *opt, const char *s)
 static int item_cube(bench_opts *o, const char *opt, const char *s)
 {
     double v;
-    if (parse_num(s, &v) != 0 || !(v > 0) || v > 1e6)
+    if (cli_parse_double(s, &v) != 0 || !(v > 0) || v > 1e6)
         return options_usage_error(CMD, "%s must be a number above 0, not '%s'", opt, s);
     if (o->ncubes >= MAX_LIST)
         return options_usage_error(CMD, "%s: at most %d values", opt, MAX_LIST);
@@ -391,7 +366,7 @@ static int item_cube(bench_opts *o, const char *opt, const char *s)
 static int item_threads(bench_opts *o, const char *opt, const char *s)
 {
     long v;
-    if (parse_whole(s, 0, 4096, &v) != 0)
+    if (cli_parse_long(s, 0, 4096, &v) != 0)
         return options_usage_error(CMD, "%s must be whole numbers from 0 to 4096, not '%s'", opt, s);
     if (v == 0)
         v = platform_cores();
@@ -529,24 +504,24 @@ static int parse_opts(int argc, char **argv, bench_opts *o)
         case 'c': rc = each_item(o, "--cube-size", optarg, item_cube); break;
         case 'j': rc = each_item(o, "--threads", optarg, item_threads); break;
         case 'r':
-            if (parse_num(optarg, &d) != 0 || !(d > 0) || d > 1e30)
+            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
                 return options_usage_error(CMD, "--radius must be a number above 0, not '%s'", optarg);
             o->radius = d;
             break;
         case B_SMOOTH:
-            if (parse_num(optarg, &d) != 0 || !(d > 0) || d > 1e6)
+            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e6)
                 return options_usage_error(CMD, "--smoothing-length must be a number above 0, not '%s'",
                                            optarg);
             o->smoothing = d;
             break;
         case B_LINK:
-            if (parse_num(optarg, &d) != 0 || !(d > 0) || d > 1e6)
+            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e6)
                 return options_usage_error(CMD, "--link-distance must be a number above 0, not '%s'",
                                            optarg);
             o->link = d;
             break;
         case B_THRESHOLD:
-            if (parse_num(optarg, &d) != 0)
+            if (cli_parse_double(optarg, &d) != 0)
                 return options_usage_error(CMD, "--threshold must be a number, not '%s'", optarg);
             o->threshold = d;
             o->threshold_given = 1;
@@ -581,23 +556,23 @@ static int parse_opts(int argc, char **argv, bench_opts *o)
             break;
         }
         case B_MINTIME:
-            if (parse_num(optarg, &d) != 0 || d < 0 || d > 1e6)
+            if (cli_parse_double(optarg, &d) != 0 || d < 0 || d > 1e6)
                 return options_usage_error(CMD, "--min-time must be seconds >= 0, not '%s'", optarg);
             o->min_time = d;
             break;
         case B_REPEAT:
-            if (parse_whole(optarg, 1, 100000000, &l) != 0)
+            if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
                 return options_usage_error(CMD, "--repeat must be a whole number >= 1, not '%s'", optarg);
             o->repeat = l;
             break;
         case B_MAXREPEAT:
-            if (parse_whole(optarg, 1, 100000000, &l) != 0)
+            if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
                 return options_usage_error(CMD, "--max-repeat must be a whole number >= 1, not '%s'",
                                            optarg);
             o->max_repeat = l;
             break;
         case B_WARMUP:
-            if (parse_whole(optarg, 1, 1000000, &l) != 0)
+            if (cli_parse_long(optarg, 1, 1000000, &l) != 0)
                 return options_usage_error(CMD, "--warmup must be a whole number >= 1, not '%s'", optarg);
             o->warmup = l;
             break;

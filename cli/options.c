@@ -1,4 +1,5 @@
 /* options.c - parses the options of `jetmesh convert` and `jetmesh generate` with getopt_long. */
+#include "numbers.h"
 #include "options.h"
 
 #include <errno.h>
@@ -21,32 +22,6 @@ int options_usage_error(const char *cmd, const char *fmt, ...)
     va_end(ap);
     fprintf(stderr, "\nTry 'jetmesh %s --help' for more information.\n", cmd);
     return OPTIONS_USAGE;
-}
-
-static int parse_double(const char *s, double *out)
-{
-    if (!s || !*s)
-        return -1;
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (*end || errno || !isfinite(v))
-        return -1;
-    *out = v;
-    return 0;
-}
-
-static int parse_long(const char *s, long lo, long hi, long *out)
-{
-    if (!s || !*s)
-        return -1;
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (*end || errno || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
 }
 
 int options_parse_size(const char *s, size_t *out)
@@ -221,7 +196,7 @@ static int getopt_problem(const char *cmd, int c, char **argv)
 static int positive(const char *cmd, const char *name, const char *arg, float *out)
 {
     double v;
-    if (parse_double(arg, &v) != 0 || !(v > 0) || v > 1e30)
+    if (cli_parse_double(arg, &v) != 0 || !(v > 0) || v > 1e30)
         return options_usage_error(cmd, "%s must be a number above 0, not '%s'", name, arg);
     *out = (float)v;
     return OPTIONS_RUN;
@@ -230,7 +205,7 @@ static int positive(const char *cmd, const char *name, const char *arg, float *o
 static int bits(const char *cmd, const char *name, const char *arg, int *out)
 {
     long v;
-    if (parse_long(arg, 1, 30, &v) != 0)
+    if (cli_parse_long(arg, 1, 30, &v) != 0)
         return options_usage_error(cmd, "%s must be a whole number from 1 to 30, not '%s'", name, arg);
     *out = (int)v;
     return OPTIONS_RUN;
@@ -273,7 +248,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
                 rc = options_usage_error(cmd, "--method is mt or mc, not '%s'", optarg);
             break;
         case O_THRESHOLD:
-            if (parse_double(optarg, &d) != 0)
+            if (cli_parse_double(optarg, &d) != 0)
                 rc = options_usage_error(cmd, "--threshold must be a number, not '%s'", optarg);
             o->params.threshold = (float)d;
             o->threshold_given = 1;
@@ -281,7 +256,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_SMOOTH: rc = positive(cmd, "--smoothing-length", optarg, &o->params.smoothing_length); break;
         case O_LINK: rc = positive(cmd, "--link-distance", optarg, &o->params.link_distance); break;
         case 'j':
-            if (parse_long(optarg, 0, 4096, &l) != 0)
+            if (cli_parse_long(optarg, 0, 4096, &l) != 0)
                 rc = options_usage_error(cmd, "--threads must be a whole number from 0 to 4096, not '%s'",
                                          optarg);
             o->params.threads = (int)l;
@@ -400,7 +375,7 @@ int options_parse_generate(int argc, char **argv, generate_options *o)
         switch (c) {
         case 'o': o->output = optarg; break;
         case 'r':
-            if (parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
+            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
                 rc = options_usage_error(cmd, "--radius must be a number above 0, not '%s'", optarg);
             o->radius = d;
             break;
@@ -438,7 +413,7 @@ int options_parse_generate(int argc, char **argv, generate_options *o)
         long n;
         if (nargs < 2)
             return options_usage_error(cmd, "%s needs a particle count N", o->scene);
-        if (parse_long(argv[optind + 1], 0, 1000000000L, &n) != 0)
+        if (cli_parse_long(argv[optind + 1], 0, 1000000000L, &n) != 0)
             return options_usage_error(cmd, "N must be a whole number from 0 to 1000000000, not '%s'",
                                        argv[optind + 1]);
         o->count = (size_t)n;
