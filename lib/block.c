@@ -203,14 +203,15 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t0 = jm_now_ms();
     if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
-    jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad);
+    size_t fs;
+    const float *fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad, &fs);
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
-    {
-        const float *restrict f = s->f;
-        uint8_t *restrict in = s->in;
-        for (size_t i = 0; i < nn; i++) {
+    for (size_t r = 0; r < (size_t)n * n; r++) {
+        const float *restrict f = fv + r * fs;
+        uint8_t *restrict in = s->in + r * (size_t)n;
+        for (int i = 0; i < n; i++) {
             uint8_t v = f[i] > thr;
             in[i] = v;
             inside += v;
@@ -272,8 +273,9 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                         if (ni < B && nj < B && nk < B) {
                             if (!grow_vertices(mem, out)) { out->failed = 1; goto done; }
                             size_t nb = na + dir_off[dir];
-                            float fa = s->f[na], fb = s->f[nb];
                             const int *dv = jm_dir[dir];
+                            const float fa = fv[((size_t)nk * sn + (size_t)nj) * fs + (size_t)ni];
+                            const float fb = fv[((size_t)(nk + dv[2]) * sn + (size_t)(nj + dv[1])) * fs + (size_t)(ni + dv[0])];
                             const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
                             const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
                             float tt = (thr - fa) / (fb - fa);

@@ -127,11 +127,18 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
     }
 }
 
-void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                     const float *y, const float *z, int n, float *f, uint32_t *win, float *pad)
+const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
+                             const float *y, const float *z, int n, float *f, uint32_t *win, float *pad,
+                             size_t *out_stride)
 {
-    if (c->field == JM_FIELD_SPH) jm_sph_sample(g, c, hood, x, y, z, n, f, pad);
-    else sample_meta(g, c, hood, x, y, z, n, f, win);
+    if (c->field == JM_FIELD_SPH) {
+        jm_sph_sample(g, c, hood, x, y, z, n, f, pad);
+        *out_stride = JM_PAD(n);
+        return pad;
+    }
+    sample_meta(g, c, hood, x, y, z, n, f, win);
+    *out_stride = (size_t)n;
+    return f;
 }
 
 float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3])

@@ -48,14 +48,18 @@ static inline void node_span(const float *t, int n, float inv_h, float lo, float
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 
-/* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) into f (x fastest).
- * Metasphere: win[node] receives the primitive that gave the node's value
- * (UINT32_MAX where clamped); see jm_prim_eval. */
-void jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                     const float *y, const float *z, int n, float *f, uint32_t *win, float *pad);
+/* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) and returns the
+ * values: node (i, j, k) at [(k n + j) *out_stride + i] (in f for the
+ * metasphere, stride n; in pad for SPH, stride JM_PAD(n)).
+ * Metasphere: win[node] (stride n) receives the primitive that gave the
+ * node's value (UINT32_MAX where clamped); see jm_prim_eval. */
+const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
+                             const float *y, const float *z, int n, float *f, uint32_t *win, float *pad,
+                             size_t *out_stride);
 
-/* Row length of the padded sampling buffer (n^2 rows): a multiple of 8. */
-#define JM_PAD(n) (((n) + 7) & ~7)
+/* Row length of the padded sampling buffer (n^2 rows): a multiple of 8 with
+ * room for a run of 8 starting at any of the n nodes. */
+#define JM_PAD(n) (((n) + 14) & ~7)
 #define JM_PAD_MAX 64
 
 /* SPH particles near a block, in groups of 8: x[8], y[8], z[8], weight[8]. */

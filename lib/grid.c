@@ -34,7 +34,27 @@ typedef struct {
     int range;        /* cells to scan each side for the isolation test */
     float iso2;       /* squared isolation radius */
     uint32_t *counts; /* metasphere: links per particle */
+    float **soa;      /* per worker: neighbours of a cell as x[], y[], z[] */
+    size_t *soa_cap;  /* per worker: floats per coordinate array */
+    int failed;
 } nb_job;
+
+/* The particle ranges of the (up to 27) non-empty cells around cell ci. */
+static int near_ranges(const jm_grid *g, size_t ci, uint32_t r[27][2])
+{
+    const int32_t *cc = &g->cell_coord[3 * ci];
+    int k = 0;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                uint32_t nc = jm_grid_cell(g, (int64_t)cc[0] + dx, (int64_t)cc[1] + dy, (int64_t)cc[2] + dz);
+                if (nc == UINT32_MAX) continue;
+                r[k][0] = g->cell_start[nc];
+                r[k][1] = g->cell_start[nc + 1];
+                k++;
+            }
+    return k;
+}
 
 /* Visits the particles of the cells within `range` of cell ci. */
 #define FOR_NEAR_CELLS(g, ci, range, ...)                                              \
@@ -65,27 +85,54 @@ static int lonely(const jm_grid *g, uint32_t ci, uint32_t i, int range, float is
     return 1;
 }
 
+/* Densities: the neighbours of a cell are copied once into structure-of-
+ * arrays form (padded to 8 with far-away points), then each particle sums
+ * its kernel over them in 8 lanes added in a fixed order. */
 static void sph_cell(void *arg, size_t ci, int worker)
 {
-    (void)worker;
     nb_job *job = arg;
     jm_grid *g = job->g;
-    float inv = 1.0f / job->c->sph_h, sup2 = job->c->support * job->c->support;
+    const float inv = 1.0f / job->c->sph_h, sup2 = job->c->support * job->c->support;
+    uint32_t r[27][2];
+    int nr = near_ranges(g, ci, r);
+    size_t m = 0;
+    for (int k = 0; k < nr; k++) m += r[k][1] - r[k][0];
+    size_t cap = (m + 7) & ~(size_t)7;
+    if (cap > job->soa_cap[worker]) {
+        float *b = realloc(job->soa[worker], 3 * cap * sizeof *b);
+        if (!b) { job->failed = 1; return; }
+        job->soa[worker] = b;
+        job->soa_cap[worker] = cap;
+    }
+    float *xs = job->soa[worker], *ys = xs + cap, *zs = ys + cap;
+    size_t t = 0;
+    for (int k = 0; k < nr; k++)
+        for (uint32_t j = r[k][0]; j < r[k][1]; j++, t++) {
+            xs[t] = g->pos[3 * (size_t)j];
+            ys[t] = g->pos[3 * (size_t)j + 1];
+            zs[t] = g->pos[3 * (size_t)j + 2];
+        }
+    for (; t < cap; t++) xs[t] = ys[t] = zs[t] = 1e30f;
     for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
-        const float *p = GP(g, i);
-        float sum = 0.0f;
-        int others = 0;
-        FOR_NEAR_CELLS(g, ci, 1, {
-            const float *q = GP(g, j);
-            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-            float d2 = dx * dx + dy * dy + dz * dz;
-            if (d2 < sup2) {
-                sum += jm_cubic_w(sqrtf(d2) * inv);
-                others += j != i;
+        const float px = g->pos[3 * (size_t)i], py = g->pos[3 * (size_t)i + 1], pz = g->pos[3 * (size_t)i + 2];
+        float lane[8] = {0};
+        int near[8] = {0};
+        for (size_t b = 0; b < cap; b += 8)
+            for (int l = 0; l < 8; l++) {
+                float dx = xs[b + l] - px, dy = ys[b + l] - py, dz = zs[b + l] - pz;
+                float d2 = dx * dx + dy * dy + dz * dz;
+                lane[l] += jm_cubic_w(sqrtf(d2) * inv); /* 0 beyond the support */
+                near[l] += d2 < sup2;
             }
-        });
+        float sum = 0.0f;
+        int count = 0;
+        for (int l = 0; l < 8; l++) {
+            sum += lane[l];
+            count += near[l];
+        }
         g->weight[i] = 1.0f / sum; /* sum >= w(0) = 1 */
-        g->isolated[i] = job->c->templates && !others && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
+        /* count includes the particle itself (and any exact duplicates) */
+        g->isolated[i] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
     }
 }
 
@@ -95,15 +142,18 @@ static void meta_count(void *arg, size_t ci, int worker)
     nb_job *job = arg;
     jm_grid *g = job->g;
     float link2 = job->c->link * job->c->link;
+    uint32_t r[27][2];
+    int nr = near_ranges(g, ci, r);
     for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
         const float *p = GP(g, i);
         uint32_t n = 0;
-        FOR_NEAR_CELLS(g, ci, 1, {
-            const float *q = GP(g, j);
-            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-            float d2 = dx * dx + dy * dy + dz * dz;
-            n += (j != i && d2 < link2 && d2 > 0.0f);
-        });
+        for (int k = 0; k < nr; k++)
+            for (uint32_t j = r[k][0]; j < r[k][1]; j++) {
+                const float *q = GP(g, j);
+                float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+                float d2 = dx * dx + dy * dy + dz * dz;
+                n += (j != i && d2 < link2 && d2 > 0.0f);
+            }
         job->counts[i] = n;
         g->isolated[i] = job->c->templates && n == 0 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
     }
@@ -115,18 +165,21 @@ static void meta_fill(void *arg, size_t ci, int worker)
     nb_job *job = arg;
     jm_grid *g = job->g;
     float link2 = job->c->link * job->c->link;
+    uint32_t r[27][2];
+    int nr = near_ranges(g, ci, r);
     for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
         const float *p = GP(g, i);
-        uint32_t k = g->nb_start[i];
-        FOR_NEAR_CELLS(g, ci, 1, {
-            const float *q = GP(g, j);
-            float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-            float d2 = dx * dx + dy * dy + dz * dz;
-            if (j != i && d2 < link2 && d2 > 0.0f) {
-                g->nb_owner[k] = i;
-                g->nb[k++] = j;
+        uint32_t e = g->nb_start[i];
+        for (int k = 0; k < nr; k++)
+            for (uint32_t j = r[k][0]; j < r[k][1]; j++) {
+                const float *q = GP(g, j);
+                float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
+                float d2 = dx * dx + dy * dy + dz * dz;
+                if (j != i && d2 < link2 && d2 > 0.0f) {
+                    g->nb_owner[e] = i;
+                    g->nb[e++] = j;
+                }
             }
-        });
     }
 }
 
@@ -258,7 +311,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     order = NULL;
 
     /* neighbour data */
-    nb_job job = {g, c, 1, 0, NULL};
+    nb_job job = {g, c, 1, 0, NULL, NULL, NULL, 0};
     float iso;
     if (c->field == JM_FIELD_SPH) iso = 2.0f * c->support;
     else iso = fmaxf(c->link, 2.6f * c->r);
@@ -267,7 +320,20 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     if (c->field == JM_FIELD_SPH) {
         g->weight = jm_alloc(mem, (n ? n : 1) * sizeof(float));
         if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        int nt = jm_pool_threads(pool);
+        job.soa = calloc((size_t)nt, sizeof *job.soa);
+        job.soa_cap = calloc((size_t)nt, sizeof *job.soa_cap);
+        if (!job.soa || !job.soa_cap) {
+            free(job.soa);
+            free(job.soa_cap);
+            st = JM_E_OUT_OF_MEMORY;
+            goto fail;
+        }
         jm_pool_run(pool, ncells, 16, sph_cell, &job);
+        for (int w = 0; w < nt; w++) free(job.soa[w]);
+        free(job.soa);
+        free(job.soa_cap);
+        if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     } else {
         g->nb_start = jm_alloc(mem, (n + 1) * sizeof(uint32_t));
         if (!g->nb_start) { st = JM_E_OUT_OF_MEMORY; goto fail; }

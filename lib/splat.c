@@ -23,8 +23,9 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
 }
 
 /* Splats every particle of the hood whose support reaches the block into
- * pad, whose rows are JM_PAD(n) long (a multiple of 8), in aligned runs of 8
- * nodes: one or two vector steps per row of the support's chord. */
+ * pad, whose rows are JM_PAD(n) >= n + 7 long, in runs of 8 nodes from the
+ * start of the support's chord: one or two vector steps per row (the lanes
+ * past the chord add exact zeros: the kernel vanishes beyond its support). */
 #define SAMPLE_BODY(ROW)                                                                                   \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
@@ -57,12 +58,12 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
                     a = a > i0 ? a : i0;                                                                   \
                     b = b < i1 ? b : i1;                                                                   \
                     if (a >= b) continue;                                                                  \
-                    ROW(slab + (size_t)jj * ns, xp, a & ~7, (b + 7) & ~7, qx, dyz2, inv, wgt);             \
+                    ROW(slab + (size_t)jj * ns, xp, a, a + ((b - a + 7) & ~7), qx, dyz2, inv, wgt);             \
                 }                                                                                          \
             }                                                                                              \
         }                                                                                                  \
     }                                                                                                      \
-    for (size_t r = 0; r < (size_t)n * n; r++) memcpy(f + r * n, pad + r * ns, (size_t)n * sizeof *f);
+    (void)f;
 
 #define SAMPLE_ARGS                                                                                       \
     const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
