@@ -105,8 +105,10 @@ typedef enum jm_status {
     JM_E_INVALID_ARGUMENT, /**< NULL pointer or a parameter out of range */
     JM_E_INVALID_PARTICLE, /**< a coordinate is NaN or infinite */
     JM_E_OUT_OF_MEMORY,    /**< an allocation failed */
-    JM_E_TOO_LARGE,        /**< estimate over params.max_bytes, or a lattice
-                                coordinate beyond +-2^30 cubes */
+    JM_E_TOO_LARGE,        /**< estimate over params.max_bytes, a lattice
+                                coordinate beyond +-2^30 cubes, or over 2^26
+                                lattice blocks to visit (a cube size absurdly
+                                small for the particles' spread) */
     JM_E_THREAD,           /**< worker threads could not be started */
     JM_E_INTERNAL          /**< a bug: please report it */
 } jm_status;

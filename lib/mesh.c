@@ -319,15 +319,38 @@ static size_t estimate(const jm_config *c, size_t n, size_t nblocks, int threads
     return bytes > (double)SIZE_MAX ? SIZE_MAX : (size_t)bytes;
 }
 
-static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs)
+/* Lattices far finer than the particles (a tiny cube size for the radius)
+ * would visit absurd numbers of blocks: at most this many (each is up to
+ * 33^3 samples; a dense 100M-particle frame needs about half a million). */
+#define JM_MAX_BLOCKS ((double)(1u << 26))
+
+static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs, int threads,
+                              size_t *out_estimate)
 {
     memset(bs, 0, sizeof *bs);
     const double BW = (double)c->block * c->h;
     const float infl = c->influence;
+    double box = 1.0;
     for (int a = 0; a < 3; a++) {
         bs->origin[a] = (int64_t)floor((g->lo[a] - infl) / BW) - 2;
-        if ((int64_t)floor((g->hi[a] + infl) / BW) + 2 - bs->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
+        int64_t top = (int64_t)floor((g->hi[a] + infl) / BW) + 2;
+        if (top - bs->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
+        box *= (double)(top - bs->origin[a] + 1);
     }
+    /* before inserting anything: an upper bound of the blocks, refused when
+     * absurd or when its memory estimate is over the limit */
+    double cand = 0.0;
+    for (size_t ci = 0; ci < g->ncells; ci++) {
+        double v = 1.0;
+        for (int a = 0; a < 3; a++) {
+            double cl = (double)g->cell_coord[3 * ci + a] * g->cell;
+            v *= floor((cl + g->cell + infl) / BW) - floor((cl - infl) / BW) + 1.0;
+        }
+        cand += v;
+    }
+    double bound = cand < box ? cand : box;
+    *out_estimate = estimate(c, g->n, bound > 1e15 ? (size_t)1e15 : (size_t)bound, threads);
+    if (bound > JM_MAX_BLOCKS || (c->max_bytes && *out_estimate > c->max_bytes)) return JM_E_TOO_LARGE;
     jm_hashmap set;
     jm_status st = jm_hashmap_init(&set, mem, g->ncells * 2 + 16);
     if (st != JM_OK) return st;
@@ -411,7 +434,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     s = jm_grid_build(&g, mem, ctx->pool, c, in);
     if (s != JM_OK) return s;
     jm_block_set bs;
-    s = build_blocks(c, &g, mem, &bs);
+    s = build_blocks(c, &g, mem, &bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
     st->particles = in->count;
     st->isolated = g.n_isolated;

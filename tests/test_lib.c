@@ -426,6 +426,20 @@ static void test_api_errors(void **s)
     float far[6] = {0, 0, 0, 1e12f, 0, 0};
     jm_particles pf = {far, 2, 0, NULL};
     assert_int_equal(jm_mesh_particles(ctx, &pf, &m, &st), JM_E_TOO_LARGE);
+    /* an absurdly fine lattice for the particles' spread: refused at once,
+     * even without a memory limit */
+    {
+        jm_params fine = {0};
+        fine.radius = 1.0f;
+        fine.cube_size = 0.001f;
+        fine.field = JM_FIELD_SPH;
+        jm_context *fc = make(fine);
+        float two[6] = {0, 0, 0, 100, 0, 0};
+        jm_particles pt = {two, 2, 0, NULL};
+        assert_int_equal(jm_mesh_particles(fc, &pt, &m, &st), JM_E_TOO_LARGE);
+        assert_true(st.estimated_bytes > ((size_t)1 << 40));
+        jm_context_free(fc);
+    }
     /* a memory limit refuses before allocating the band */
     float *cloud = random_cloud(2000, 1.0f, 1);
     jm_particles pc = {cloud, 2000, 0, NULL};
