@@ -105,24 +105,31 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     return 1;
 }
 
-/* Metasphere: the value at p of the pieces that won at the edge's two
- * nodes (the field is their maximum near the edge). */
-static float cand_value(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3])
+/* Metasphere: the largest of the pieces that won at the edge's two nodes
+ * (the field is their maximum near the edge), its normal and gradient length. */
+static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
+                       float *glen)
 {
     float v = -INFINITY;
     for (int k = 0; k < 2; k++)
-        if (cand[k] != UINT32_MAX) {
-            float w = jm_prim_eval(g, c, cand[k], p, NULL);
-            v = w > v ? w : v;
+        if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0])) {
+            float nk[3], gk;
+            float w = jm_prim_eval(g, c, cand[k], p, nk, &gk);
+            if (w > v) {
+                v = w;
+                memcpy(n, nk, sizeof nk);
+                *glen = gk;
+            }
         }
     return v;
 }
 
 /* The metasphere's crossing on edge a + t ab: the linear estimate t is
- * refined by a few regula falsi (Illinois) steps on the exact function, so
- * vertices lie on the surface, not on the chord of the samples. */
+ * refined on the exact function (directly for a single ball, else by
+ * safeguarded Newton steps), so vertices lie on the surface, not on the
+ * chord of the samples. */
 static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
-                         const float ab[3], float fa, float fb, float t)
+                         const float ab[3], float fa, float t)
 {
     uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
     if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
@@ -141,15 +148,19 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
             if (best >= 0.0f && best <= 1.0f) return best;
         }
     }
+    /* Newton steps on f(t) = field - threshold along the edge, kept inside
+     * the bracket [ta, tb] (bisecting when a step leaves it) */
     float ta = 0.0f, tb = 1.0f;
     const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
     for (int it = 0; it < 4; it++) {
-        float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]};
-        float f = cand_value(g, c, cand, p) - c->threshold;
+        float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
+        float f = cand_eval(g, c, cand, p, n, &glen) - c->threshold;
         if (fabsf(f) < tol) return t;
-        if ((f > 0.0f) == (fa > 0.0f)) { ta = t; fa = f; fb *= 0.5f; }
-        else { tb = t; fb = f; fa *= 0.5f; }
-        t = ta + (tb - ta) * fa / (fa - fb);
+        if ((f > 0.0f) == (fa > 0.0f)) ta = t; else tb = t;
+        float df = -glen * (n[0] * ab[0] + n[1] * ab[1] + n[2] * ab[2]);
+        float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
+        if (!(tn > ta && tn < tb)) tn = 0.5f * (ta + tb);
+        t = tn;
     }
     return t;
 }
@@ -159,8 +170,8 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
 static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float nrm[3])
 {
     float n0[3], n1[3], v0 = -INFINITY, v1 = -INFINITY;
-    if (cand[0] != UINT32_MAX) v0 = jm_prim_eval(g, c, cand[0], p, n0);
-    if (cand[1] != UINT32_MAX && cand[1] != cand[0]) v1 = jm_prim_eval(g, c, cand[1], p, n1);
+    if (cand[0] != UINT32_MAX) v0 = jm_prim_eval(g, c, cand[0], p, n0, NULL);
+    if (cand[1] != UINT32_MAX && cand[1] != cand[0]) v1 = jm_prim_eval(g, c, cand[1], p, n1, NULL);
     if (v1 == -INFINITY) { memcpy(nrm, n0, sizeof n0); return; }
     if (v0 == -INFINITY) { memcpy(nrm, n1, sizeof n1); return; }
     const float tau = 0.1f * c->h / c->r;
@@ -283,7 +294,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 uint32_t *cv = &out->cand[2 * out->nv];
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = refine_root(g, c, cv, a, ab, fa - thr, fb - thr, tt);
+                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt);
                             }
                             tt = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
                             float *p = &out->pos[3 * out->nv];

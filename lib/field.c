@@ -141,9 +141,10 @@ const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood
     return f;
 }
 
-float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3])
+float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3], float *out_glen)
 {
     const float inv_r = 1.0f / c->r;
+    if (out_glen) *out_glen = inv_r;
     if (id < g->n) {
         const float *q = GP(g, id);
         float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
@@ -161,15 +162,18 @@ float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const floa
     float s = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
     /* beyond its half the neck continues as the same formula; callers only
      * use primitives that won at a node next to p */
+    int clamped = s < 0.0f || s > 0.5f * D;
     if (s < 0.0f) s = 0.0f;
     if (s > 0.5f * D) s = 0.5f * D;
     float rad[3] = {w[0] - s * u[0], w[1] - s * u[1], w[2] - s * u[2]};
     float qq = sqrtf(rad[0] * rad[0] + rad[1] * rad[1] + rad[2] * rad[2]);
-    if (out && qq > 0.0f) {
-        float sn = sinf(s * inv_r), len = 0.0f;
-        for (int a = 0; a < 3; a++) { out[a] = sn * u[a] + rad[a] / qq; len += out[a] * out[a]; }
-        len = 1.0f / sqrtf(len);
-        for (int a = 0; a < 3; a++) out[a] *= len;
+    if ((out || out_glen) && qq > 0.0f) {
+        float sn = clamped ? 0.0f : sinf(s * inv_r), len = 0.0f, o[3];
+        for (int a = 0; a < 3; a++) { o[a] = sn * u[a] + rad[a] / qq; len += o[a] * o[a]; }
+        len = sqrtf(len);
+        if (out_glen) *out_glen = len * inv_r;
+        if (out)
+            for (int a = 0; a < 3; a++) out[a] = o[a] / len;
     }
     return jm_cos_quarter(s * inv_r) - qq * inv_r;
 }

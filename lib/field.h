@@ -77,8 +77,9 @@ int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float n
 
 /* Metasphere primitive id: a sorted particle index (its ball) or n + e for
  * the half-neck of link e. Returns its value at p; out (may be NULL) gets its
- * outward unit normal. */
-float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3]);
+ * outward unit normal, out_glen (may be NULL) its gradient's length (per
+ * world unit). */
+float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3], float *out_glen);
 
 /* cos(t) for t in [0, pi/2], |error| < 2e-7, no libm call */
 static inline float jm_cos_quarter(float t)
