@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include "../formats/reader.h"
+#include "util/files.h"
 
 static size_t replayed;
 
@@ -28,24 +29,6 @@ static jmf_input_format dir_format(const char *name)
 {
     int f = jmf_input_format_parse(name);
     return f > 0 ? (jmf_input_format)f : JMF_IN_AUTO;
-}
-
-static unsigned char *slurp(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    unsigned char *buf;
-    long n;
-    assert_non_null(f);
-    assert_int_equal(fseek(f, 0, SEEK_END), 0);
-    n = ftell(f);
-    assert_true(n >= 0);
-    rewind(f);
-    buf = malloc((size_t)n + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-    fclose(f);
-    *size = (size_t)n;
-    return buf;
 }
 
 /* One input, as the fuzz target of its folder reads it: a valid status and a consistent frame. */
@@ -105,7 +88,8 @@ static size_t replay_dir(const char *kind)
             if (fe->d_name[0] == '.') continue;
             snprintf(path, sizeof path, "%s/%s", sub, fe->d_name);
             if (stat(path, &sb) != 0 || !S_ISREG(sb.st_mode)) continue;
-            buf = slurp(path, &n);
+            buf = test_read_file(path, &n);
+            assert_non_null(buf);
             if (f == JMF_IN_AUTO) {
                 /* as fuzz_auto: by magic, then by two extensions */
                 replay_one(path, buf, n, f, "frame.unknown");

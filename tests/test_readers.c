@@ -15,6 +15,7 @@
 #include <zlib.h>
 
 #include "../formats/reader.h"
+#include "util/files.h"
 
 /* ---------------------------------------------------------------- helpers */
 
@@ -51,29 +52,14 @@ static void data_path(char *buf, size_t n, const char *rel)
     snprintf(buf, n, "%s/data/%s", shared_dir(), rel);
 }
 
-static unsigned char *slurp(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    unsigned char *buf;
-    long n;
-    assert_non_null(f);
-    assert_int_equal(fseek(f, 0, SEEK_END), 0);
-    n = ftell(f);
-    assert_true(n >= 0);
-    rewind(f);
-    buf = malloc((size_t)n + 1);
-    assert_non_null(buf);
-    assert_int_equal(fread(buf, 1, (size_t)n, f), (size_t)n);
-    fclose(f);
-    *size = (size_t)n;
-    return buf;
-}
-
 static unsigned char *slurp_shared(const char *rel, size_t *size)
 {
     char p[4300];
+    unsigned char *d;
     data_path(p, sizeof p, rel);
-    return slurp(p, size);
+    d = test_read_file(p, size);
+    assert_non_null(d);
+    return d;
 }
 
 static jmf_status rd(const void *d, size_t n, const char *name, jmf_input_format fmt, int drop, jmf_frame *fr,

@@ -19,6 +19,7 @@
 #include "../formats/atomic_file.h"
 #include "../formats/write_formats.h"
 #include "../formats/writer.h"
+#include "util/files.h"
 #include "util/test_meshes.h"
 
 static char g_dir[256];
@@ -34,24 +35,6 @@ static const char *in_dir(const char *name)
     return p;
 }
 
-static unsigned char *slurp(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *d = malloc((size_t)n + 1);
-    if (d && fread(d, 1, (size_t)n, f) != (size_t)n) {
-        free(d);
-        d = NULL;
-    }
-    fclose(f);
-    if (d) d[n] = 0;
-    *size = (size_t)n;
-    return d;
-}
-
 static void spit(const char *path, const char *text)
 {
     FILE *f = fopen(path, "wb");
@@ -63,7 +46,7 @@ static void spit(const char *path, const char *text)
 static int file_equals(const char *path, const char *text)
 {
     size_t n;
-    unsigned char *d = slurp(path, &n);
+    unsigned char *d = test_read_file(path, &n);
     int eq = d && n == strlen(text) && memcmp(d, text, n) == 0;
     free(d);
     return eq;
@@ -345,7 +328,7 @@ static void read_ply(const char *path, readback *r)
 {
     memset(r, 0, sizeof *r);
     size_t n;
-    unsigned char *d = slurp(path, &n);
+    unsigned char *d = test_read_file(path, &n);
     assert_non_null(d);
     const char *end = strstr((const char *)d, "end_header\n");
     assert_non_null(end);
@@ -380,7 +363,7 @@ static void read_vtk(const char *path, readback *r)
 {
     memset(r, 0, sizeof *r);
     size_t n;
-    unsigned char *d = slurp(path, &n);
+    unsigned char *d = test_read_file(path, &n);
     assert_non_null(d);
     const char *s = (const char *)d;
     assert_int_equal(strncmp(s, "# vtk DataFile Version 3.0\n", 27), 0);
@@ -481,7 +464,7 @@ static void test_obj_without_attributes(void **state)
     tm.mesh.normals = NULL;
     assert_int_equal(write_path(in_dir("p.obj"), &tm.mesh, NULL, NULL, err), JMF_OK);
     size_t n;
-    char *a = (char *)slurp(in_dir("n.obj"), &n), *b = (char *)slurp(in_dir("p.obj"), &n);
+    char *a = (char *)test_read_file(in_dir("n.obj"), &n), *b = (char *)test_read_file(in_dir("p.obj"), &n);
     assert_non_null(strstr(a, "\nf 1//1 3//3 5//5\n"));
     assert_null(strstr(a, "\nvt "));
     assert_non_null(strstr(b, "\nf 1 3 5\n"));
@@ -573,7 +556,7 @@ static void test_glb_layout(void **state)
     size_t bytes = 0, n, binlen;
     const char *path = in_dir("g.glb");
     assert_int_equal(write_path(path, &tm.mesh, &o, &bytes, err), JMF_OK);
-    unsigned char *d = slurp(path, &n);
+    unsigned char *d = test_read_file(path, &n);
     assert_int_equal(bytes, n);
     const unsigned char *bin;
     char *json = glb_split(d, n, &bin, &binlen);
@@ -594,7 +577,7 @@ static void test_glb_layout(void **state)
     /* z-up: (x, y, z) -> (x, z, -y) */
     o.z_up = 1;
     assert_int_equal(write_path(path, &tm.mesh, &o, &bytes, err), JMF_OK);
-    d = slurp(path, &n);
+    d = test_read_file(path, &n);
     json = glb_split(d, n, &bin, &binlen);
     for (size_t i = 0; i < nv; i += 997) {
         float p[3], q[3];
@@ -622,7 +605,7 @@ static void test_gltf_index_width(void **state)
         size_t n, binlen;
         const unsigned char *bin;
         assert_int_equal(write_path(in_dir("w.glb"), &tm.mesh, NULL, NULL, err), JMF_OK);
-        unsigned char *d = slurp(in_dir("w.glb"), &n);
+        unsigned char *d = test_read_file(in_dir("w.glb"), &n);
         char *json = glb_split(d, n, &bin, &binlen);
         /* the indices accessor is the last one */
         const char *last = strstr(json, "\"type\":\"SCALAR\"");
@@ -646,14 +629,14 @@ static void test_gltf_separate_and_embedded(void **state)
     assert_int_equal(write_path(in_dir("sep.gltf"), &tm.mesh, NULL, &bytes, err), JMF_OK);
     assert_int_equal(bytes, (size_t)(file_size(in_dir("sep.gltf")) + file_size(in_dir("sep.bin"))));
     assert_int_equal(file_size(in_dir("sep.bin")), 6 * 32 + 24 * 2);
-    char *json = (char *)slurp(in_dir("sep.gltf"), &n);
+    char *json = (char *)test_read_file(in_dir("sep.gltf"), &n);
     assert_non_null(strstr(json, "\"uri\": \"sep.bin\""));
     assert_non_null(strstr(json, "\"byteLength\": 240"));
     free(json);
 
     /* A name that needs percent-encoding in the URI. */
     assert_int_equal(write_path(in_dir("a b#1.gltf"), &tm.mesh, NULL, NULL, err), JMF_OK);
-    json = (char *)slurp(in_dir("a b#1.gltf"), &n);
+    json = (char *)test_read_file(in_dir("a b#1.gltf"), &n);
     assert_non_null(strstr(json, "\"uri\": \"a%20b%231.bin\""));
     assert_true(file_size(in_dir("a b#1.bin")) > 0);
     free(json);
@@ -663,7 +646,7 @@ static void test_gltf_separate_and_embedded(void **state)
     o.embed = 1;
     assert_int_equal(write_path(in_dir("emb.gltf"), &tm.mesh, &o, &bytes, err), JMF_OK);
     assert_int_equal(file_size(in_dir("emb.bin")), -1);
-    json = (char *)slurp(in_dir("emb.gltf"), &n);
+    json = (char *)test_read_file(in_dir("emb.gltf"), &n);
     assert_int_equal(bytes, n);
     assert_non_null(strstr(json, "data:application/octet-stream;base64,"));
     free(json);
@@ -671,12 +654,12 @@ static void test_gltf_separate_and_embedded(void **state)
     /* Draco in .gltf + .bin, with the extension declared and required. */
     o.embed = 0;
     assert_int_equal(write_path(in_dir("d.draco.gltf"), &tm.mesh, &o, &bytes, err), JMF_OK);
-    json = (char *)slurp(in_dir("d.draco.gltf"), &n);
+    json = (char *)test_read_file(in_dir("d.draco.gltf"), &n);
     assert_non_null(strstr(json, "\"extensionsRequired\""));
     assert_non_null(strstr(json, "\"KHR_draco_mesh_compression\": {"));
     assert_non_null(strstr(json, "\"uri\": \"d.draco.bin\""));
     free(json);
-    unsigned char *drc = slurp(in_dir("d.draco.bin"), &n);
+    unsigned char *drc = test_read_file(in_dir("d.draco.bin"), &n);
     assert_non_null(drc);
     assert_memory_equal(drc, "DRACO", 5);
     free(drc);
@@ -697,7 +680,7 @@ static void test_empty_mesh(void **state)
     assert_int_equal(file_size(in_dir("e.bin")), -1); /* nothing to put in it */
     size_t n, binlen;
     const unsigned char *bin;
-    unsigned char *d = slurp(in_dir("e.glb"), &n);
+    unsigned char *d = test_read_file(in_dir("e.glb"), &n);
     char *json = glb_split(d, n, &bin, &binlen);
     assert_null(strstr(json, "\"meshes\""));
     assert_non_null(strstr(json, "\"nodes\""));
@@ -719,7 +702,7 @@ static void test_drc(void **state)
     make("icosphere:3", &tm);
     size_t bytes = 0, n;
     assert_int_equal(write_path(in_dir("i.drc"), &tm.mesh, NULL, &bytes, err), JMF_OK);
-    unsigned char *d = slurp(in_dir("i.drc"), &n);
+    unsigned char *d = test_read_file(in_dir("i.drc"), &n);
     assert_int_equal(bytes, n);
     assert_memory_equal(d, "DRACO", 5);
     assert_true(n < tm.mesh.vertex_count * 32 / 2); /* it does compress */
@@ -779,7 +762,7 @@ static void test_generator_stays_one_line(void **state)
     assert_int_equal(r.nt, 8);
     readback_free(&r);
     size_t n;
-    char *d = (char *)slurp(in_dir("g.obj"), &n);
+    char *d = (char *)test_read_file(in_dir("g.obj"), &n);
     assert_int_equal(strncmp(d, "# evil line ggg", 15), 0);
     free(d);
     test_mesh_free(&tm);
