@@ -1,21 +1,9 @@
 #!/bin/sh
 # t_cli_convert.sh - end to end: jet sample frames to OBJ/GLB/PLY, patterns and output naming, CSV edge cases.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
-S=$ROOT/samples/jet
-fail() { echo "FAIL: $*"; exit 1; }
-[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
 [ -f "$S/jet_099.csv" ] || fail "no jet sample in $S"
-T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-convert.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
-
-run() { # expected-status args...: runs jetmesh, output in $T/out, $T/err
-    want=$1; shift
-    "$J" "$@" >"$T/out" 2>"$T/err"
-    st=$?
-    [ "$st" = "$want" ] || { cat "$T/out" "$T/err"; fail "exit $st, not $want: jetmesh $*"; }
-}
+scratch convert
 
 # the number N in "... N what," of a frame line
 field() { # line what

@@ -1,20 +1,9 @@
 #!/bin/sh
 # t_cli_failures.sh - a bad frame among good ones, --keep-going, untouched outputs, no overwriting inputs, --resume, exit 3.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
-S=$ROOT/samples/jet
-fail() { echo "FAIL: $*"; exit 1; }
-[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
-T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-fail.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
+scratch fail
 
-run() { # expected-status args...
-    want=$1; shift
-    "$J" "$@" >"$T/out" 2>"$T/err"
-    st=$?
-    [ "$st" = "$want" ] || { cat "$T/out" "$T/err"; fail "exit $st, not $want: jetmesh $*"; }
-}
 no_temps() {
     if find "$T" -name '*jetmesh-tmp*' | grep -q .; then fail "temporaries left: $(find "$T" -name '*jetmesh-tmp*')"; fi
 }

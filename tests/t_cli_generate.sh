@@ -1,13 +1,8 @@
 #!/bin/sh
 # t_cli_generate.sh - jetmesh generate: the shipped jet sample regenerates byte for byte; block and spray are as specified.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
-S=$ROOT/samples/jet
-fail() { echo "FAIL: $*"; exit 1; }
-[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
-T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-gen.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
+scratch gen
 
 # 1. the sample is exactly what `jetmesh generate jet` writes (see samples/README.md)
 "$J" generate jet -q -o "$T/jet/jet_%03d.csv" || fail "generate jet"

@@ -1,11 +1,7 @@
 #!/bin/sh
 # t_cli_kill.sh - SIGTERM/SIGHUP/SIGKILL mid-run never leave a truncated output or a leftover taken for a complete mesh.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
-S=$ROOT/samples/jet
-fail() { echo "FAIL: $*"; exit 1; }
-[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
 T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-kill.XXXXXX") || exit 1
 pid=""
 cleanup() { [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null; rm -rf "$T"; }

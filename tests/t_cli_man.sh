@@ -1,15 +1,11 @@
 #!/bin/sh
 # t_cli_man.sh - man/jetmesh.1 is clean under mandoc -Tlint and documents every long option the --help texts list.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
 MAN=$ROOT/man/jetmesh.1
-fail() { echo "FAIL: $*"; exit 1; }
-[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
 [ -f "$MAN" ] || fail "no $MAN"
 command -v mandoc >/dev/null 2>&1 || fail "mandoc is not installed (scripts/deps.sh test installs it)"
-T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-man.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
+scratch man
 
 mandoc -Tlint -W style "$MAN" >"$T/lint" 2>&1
 st=$?

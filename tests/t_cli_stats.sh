@@ -1,14 +1,9 @@
 #!/bin/sh
 # t_cli_stats.sh - --stats CSV/JSON: one record per frame with every column, escaping, summary; --stats-svg is valid SVG.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
-S=$ROOT/samples/jet
-fail() { echo "FAIL: $*"; exit 1; }
-[ -x "$J" ] || fail "no jetmesh binary at $J (run make all)"
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
 command -v node >/dev/null 2>&1 || fail "node is needed to validate the JSON"
-T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-stats.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
+scratch stats
 
 # five frames: three good ones (one with awkward characters in its name),
 # one malformed, one skipped by --resume

@@ -1,13 +1,8 @@
 #!/bin/sh
 # t_cli_usage.sh - jetmesh --help/--version, help texts, and usage errors that must exit 2 with a --help hint.
-set -u
-ROOT=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
-J=${JETMESH:-$ROOT/build/jetmesh}
-[ -x "$J" ] || { echo "FAIL: no jetmesh binary at $J (run make all)"; exit 1; }
-T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-usage.XXXXXX") || exit 1
-trap 'rm -rf "$T"' EXIT INT TERM
-fail() { echo "FAIL: $*"; exit 1; }
-S=$ROOT/samples/jet
+# shellcheck source=tests/lib.sh
+. "$(dirname "$0")/lib.sh"
+scratch usage
 
 # --version prints "jetmesh JM_VERSION_STRING"
 ver=$(sed -n 's/^#define JM_VERSION_STRING "\(.*\)"$/\1/p' "$ROOT/lib/jetmesh.h")
