@@ -467,7 +467,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     job.vbase = jm_calloc(mem, nb, sizeof *job.vbase);
     job.bmap = jm_calloc(mem, nb, sizeof *job.bmap);
     job.nbmap = jm_calloc(mem, nb, sizeof *job.nbmap);
-    size_t slots = (size_t)ctx->threads * 8;
+    size_t slots = (size_t)ctx->threads * 32;
     if (ctx->nbouts < slots) {
         jm_bout *b = realloc(ctx->bouts, slots * sizeof *b);
         if (b) {
