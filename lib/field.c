@@ -88,11 +88,8 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
             }
             /* half-necks toward each linked neighbour */
             for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
-                const float *o = GP(g, g->nb[e]);
-                float u[3] = {o[0] - q[0], o[1] - q[1], o[2] - q[2]};
-                float D = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-                float half = 0.5f * D;
-                for (int a = 0; a < 3; a++) u[a] /= D;
+                const float *u = &g->nb_dir[4 * (size_t)e];
+                const float half = 0.5f * u[3];
                 float lo[3], hi[3];
                 for (int a = 0; a < 3; a++) {
                     float m = q[a] + u[a] * half;
@@ -154,10 +151,8 @@ float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const floa
         return 1.0f - d * inv_r;
     }
     uint32_t e = id - (uint32_t)g->n;
-    const float *q = GP(g, g->nb_owner[e]), *o = GP(g, g->nb[e]);
-    float u[3] = {o[0] - q[0], o[1] - q[1], o[2] - q[2]};
-    float D = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-    for (int a = 0; a < 3; a++) u[a] /= D;
+    const float *q = GP(g, g->nb_owner[e]), *u = &g->nb_dir[4 * (size_t)e];
+    const float D = u[3];
     float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
     float s = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
     /* beyond its half the neck continues as the same formula; callers only
@@ -168,7 +163,7 @@ float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const floa
     float rad[3] = {w[0] - s * u[0], w[1] - s * u[1], w[2] - s * u[2]};
     float qq = sqrtf(rad[0] * rad[0] + rad[1] * rad[1] + rad[2] * rad[2]);
     if ((out || out_glen) && qq > 0.0f) {
-        float sn = clamped ? 0.0f : sinf(s * inv_r), len = 0.0f, o[3];
+        float sn = clamped ? 0.0f : jm_sin_quarter(s * inv_r), len = 0.0f, o[3];
         for (int a = 0; a < 3; a++) { o[a] = sn * u[a] + rad[a] / qq; len += o[a] * o[a]; }
         len = sqrtf(len);
         if (out_glen) *out_glen = len * inv_r;

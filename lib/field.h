@@ -81,6 +81,13 @@ int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float n
  * world unit). */
 float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3], float *out_glen);
 
+/* sin(t) for t in [0, pi/2], |error| < 1e-6, no libm call */
+static inline float jm_sin_quarter(float t)
+{
+    float t2 = t * t;
+    return t * (1.0f + t2 * (-1.0f / 6 + t2 * (1.0f / 120 + t2 * (-1.0f / 5040 + t2 * (1.0f / 362880)))));
+}
+
 /* cos(t) for t in [0, pi/2], |error| < 2e-7, no libm call */
 static inline float jm_cos_quarter(float t)
 {

@@ -176,6 +176,12 @@ static void meta_fill(void *arg, size_t ci, int worker)
                 float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
                 float d2 = dx * dx + dy * dy + dz * dz;
                 if (j != i && d2 < link2 && d2 > 0.0f) {
+                    float D = sqrtf(d2);
+                    float *dir = &g->nb_dir[4 * (size_t)e];
+                    dir[0] = dx / D;
+                    dir[1] = dy / D;
+                    dir[2] = dz / D;
+                    dir[3] = D;
                     g->nb_owner[e] = i;
                     g->nb[e++] = j;
                 }
@@ -192,6 +198,7 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
     jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
     jm_free(mem, g->nb_owner, g->nb_count * sizeof(uint32_t));
+    jm_free(mem, g->nb_dir, g->nb_count * 4 * sizeof(float));
     jm_free(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t));
     jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
     jm_free(mem, g->isolated, n);
@@ -351,7 +358,8 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         if (!total) g->nb_count = 1; /* what is allocated */
         g->nb = jm_alloc(mem, g->nb_count * sizeof(uint32_t));
         g->nb_owner = jm_alloc(mem, g->nb_count * sizeof(uint32_t));
-        if (!g->nb || !g->nb_owner) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        g->nb_dir = jm_alloc(mem, g->nb_count * 4 * sizeof(float));
+        if (!g->nb || !g->nb_owner || !g->nb_dir) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         jm_pool_run(pool, ncells, 16, meta_fill, &job);
     }
     for (size_t i = 0; i < n; i++) g->n_isolated += g->isolated[i];

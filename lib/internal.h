@@ -120,6 +120,8 @@ typedef struct jm_grid {
     uint32_t *nb_start;   /* metasphere: n+1 offsets into nb */
     uint32_t *nb;         /* metasphere: neighbour sorted indices within link */
     uint32_t *nb_owner;   /* metasphere: the particle each link starts from */
+    float *nb_dir;        /* metasphere: per link the unit direction x, y, z and
+                             the length D */
     size_t nb_count;
     size_t ncells;
     uint32_t *cell_start; /* ncells+1 offsets into pos */
