@@ -105,32 +105,52 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     return 1;
 }
 
-/* Metasphere: the largest of the pieces that won at the edge's two nodes
- * (the field is their maximum near the edge), its normal and gradient length. */
+/* Metasphere at p, from the pieces that won at the edge's two nodes (the
+ * field is their maximum near the edge): returns the value; n gets the
+ * winning piece's outward normal and *glen its gradient length; blend (may
+ * be NULL) the normal to output: the winner's, or along a crease of the
+ * union (both pieces within tau of each other) the blend of both. */
 static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
-                       float *glen)
+                       float *glen, float blend[3])
 {
-    float v = -INFINITY;
+    float nk[2][3], v[2] = {-INFINITY, -INFINITY}, gk[2] = {0, 0};
     for (int k = 0; k < 2; k++)
-        if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0])) {
-            float nk[3], gk;
-            float w = jm_prim_eval(g, c, cand[k], p, nk, &gk);
-            if (w > v) {
-                v = w;
-                memcpy(n, nk, sizeof nk);
-                *glen = gk;
-            }
+        if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0]))
+            v[k] = jm_prim_eval(g, c, cand[k], p, nk[k], &gk[k]);
+    int w = v[1] > v[0];
+    if (v[w] == -INFINITY) return -INFINITY;
+    memcpy(n, nk[w], sizeof nk[w]);
+    *glen = gk[w];
+    if (blend) {
+        const float tau = 0.1f * c->h / c->r;
+        float w0 = v[0] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[0]) / tau;
+        float w1 = v[1] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[1]) / tau;
+        w0 = w0 > 0.0f ? w0 : 0.0f;
+        w1 = w1 > 0.0f ? w1 : 0.0f;
+        float o[3], len = 0.0f;
+        for (int a = 0; a < 3; a++) {
+            o[a] = (w0 > 0.0f ? w0 * nk[0][a] : 0.0f) + (w1 > 0.0f ? w1 * nk[1][a] : 0.0f);
+            len += o[a] * o[a];
         }
-    return v;
+        if (len > 0.0f) {
+            len = 1.0f / sqrtf(len);
+            for (int a = 0; a < 3; a++) blend[a] = o[a] * len;
+        } else {
+            memcpy(blend, n, 3 * sizeof *n);
+        }
+    }
+    return v[w];
 }
 
 /* The metasphere's crossing on edge a + t ab: the linear estimate t is
  * refined on the exact function (directly for a single ball, else by
  * safeguarded Newton steps), so vertices lie on the surface, not on the
- * chord of the samples. */
+ * chord of the samples. When the last evaluation was at the returned t,
+ * nrm gets the output normal there and *have_nrm is set. */
 static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
-                         const float ab[3], float fa, float t)
+                         const float ab[3], float fa, float t, float nrm[3], int *have_nrm)
 {
+    *have_nrm = 0;
     uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
     if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
         /* a single ball: |a + t ab - q| = r (1 - threshold), solved directly */
@@ -154,8 +174,11 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
     const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
     for (int it = 0; it < 4; it++) {
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
-        float f = cand_eval(g, c, cand, p, n, &glen) - c->threshold;
-        if (fabsf(f) < tol) return t;
+        float f = cand_eval(g, c, cand, p, n, &glen, nrm) - c->threshold;
+        if (fabsf(f) < tol) {
+            *have_nrm = 1;
+            return t;
+        }
         if ((f > 0.0f) == (fa > 0.0f)) ta = t; else tb = t;
         float df = -glen * (n[0] * ab[0] + n[1] * ab[1] + n[2] * ab[2]);
         float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
@@ -165,25 +188,11 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
     return t;
 }
 
-/* Metasphere normal: the winning piece's gradient; where both pieces are
- * within tau of each other (a crease of the union), their blend. */
+/* Metasphere normal at p (see cand_eval). */
 static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float nrm[3])
 {
-    float n0[3], n1[3], v0 = -INFINITY, v1 = -INFINITY;
-    if (cand[0] != UINT32_MAX) v0 = jm_prim_eval(g, c, cand[0], p, n0, NULL);
-    if (cand[1] != UINT32_MAX && cand[1] != cand[0]) v1 = jm_prim_eval(g, c, cand[1], p, n1, NULL);
-    if (v1 == -INFINITY) { memcpy(nrm, n0, sizeof n0); return; }
-    if (v0 == -INFINITY) { memcpy(nrm, n1, sizeof n1); return; }
-    const float tau = 0.1f * c->h / c->r;
-    float best = v0 > v1 ? v0 : v1;
-    float w0 = 1.0f - (best - v0) / tau, w1 = 1.0f - (best - v1) / tau;
-    w0 = w0 > 0.0f ? w0 : 0.0f;
-    w1 = w1 > 0.0f ? w1 : 0.0f;
-    float o[3], len = 0.0f;
-    for (int a = 0; a < 3; a++) { o[a] = w0 * n0[a] + w1 * n1[a]; len += o[a] * o[a]; }
-    if (!(len > 0.0f)) return;
-    len = 1.0f / sqrtf(len);
-    for (int a = 0; a < 3; a++) nrm[a] = o[a] * len;
+    float n[3], glen;
+    cand_eval(g, c, cand, p, n, &glen, nrm);
 }
 
 static int cmp_pair(const void *a, const void *b)
@@ -290,19 +299,27 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
                             const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
                             float tt = (thr - fa) / (fb - fa);
+                            float mn[3];
+                            int have_mn = 0;
+                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL;
                             if (meta) {
-                                uint32_t *cv = &out->cand[2 * out->nv];
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt);
+                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, mn, &have_mn);
                             }
-                            tt = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+                            float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
                             float *p = &out->pos[3 * out->nv];
-                            for (int q = 0; q < 3; q++) p[q] = a[q] + tt * ab[q];
+                            for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             /* fallback normal: along the edge, from inside to outside */
                             float sign = fa > thr ? 1.0f : -1.0f, inv = 1.0f / sqrtf((float)(dv[0] + dv[1] + dv[2]));
                             float *nr = &out->nrm[3 * out->nv];
                             for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
+                            if (meta && want_nrm) {
+                                /* reuse the normal of the refinement's last
+                                 * evaluation when it was at this very point */
+                                if (have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
+                                else cand_normal(g, c, cv, p, nr);
+                            }
                             ref = (uint32_t)out->nv++;
                             if (ni == 0 || nj == 0 || nk == 0) {
                                 if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {
@@ -348,10 +365,7 @@ done:
     }
     for (size_t v = 0; v < out->nv; v++) {
         float *p = &out->pos[3 * v], *nr = &out->nrm[3 * v];
-        if (want_nrm) {
-            if (meta) cand_normal(g, c, &out->cand[2 * v], p, nr);
-            else jm_sph_normal(c, &s->soa, p, nr);
-        }
+        if (want_nrm && !meta) jm_sph_normal(c, &s->soa, p, nr); /* metasphere: set when made */
         if (c->uv_mode != JM_UV_NONE) jm_uv(c, p, nr, &out->uv[2 * v]);
     }
     out->t_attr = jm_now_ms() - t2;
