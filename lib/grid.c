@@ -136,46 +136,24 @@ static void sph_cell(void *arg, size_t ci, int worker)
     }
 }
 
-static void meta_count(void *arg, size_t ci, int worker)
+/* Metasphere links of the particles of cell ci: pass 0 counts them (and
+ * flags isolated particles), pass 1 writes them at nb_start. */
+static void meta_links(nb_job *job, size_t ci, int fill)
 {
-    (void)worker;
-    nb_job *job = arg;
     jm_grid *g = job->g;
     float link2 = job->c->link * job->c->link;
     uint32_t r[27][2];
     int nr = near_ranges(g, ci, r);
     for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
         const float *p = GP(g, i);
-        uint32_t n = 0;
+        uint32_t e = fill ? g->nb_start[i] : 0;
         for (int k = 0; k < nr; k++)
             for (uint32_t j = r[k][0]; j < r[k][1]; j++) {
                 const float *q = GP(g, j);
                 float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
                 float d2 = dx * dx + dy * dy + dz * dz;
-                n += (j != i && d2 < link2 && d2 > 0.0f);
-            }
-        job->counts[i] = n;
-        g->isolated[i] = job->c->templates && n == 0 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
-    }
-}
-
-static void meta_fill(void *arg, size_t ci, int worker)
-{
-    (void)worker;
-    nb_job *job = arg;
-    jm_grid *g = job->g;
-    float link2 = job->c->link * job->c->link;
-    uint32_t r[27][2];
-    int nr = near_ranges(g, ci, r);
-    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
-        const float *p = GP(g, i);
-        uint32_t e = g->nb_start[i];
-        for (int k = 0; k < nr; k++)
-            for (uint32_t j = r[k][0]; j < r[k][1]; j++) {
-                const float *q = GP(g, j);
-                float dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-                float d2 = dx * dx + dy * dy + dz * dz;
-                if (j != i && d2 < link2 && d2 > 0.0f) {
+                if (j == i || !(d2 < link2 && d2 > 0.0f)) continue;
+                if (fill) {
                     float D = sqrtf(d2);
                     float *dir = &g->nb_dir[4 * (size_t)e];
                     dir[0] = dx / D;
@@ -183,10 +161,27 @@ static void meta_fill(void *arg, size_t ci, int worker)
                     dir[2] = dz / D;
                     dir[3] = D;
                     g->nb_owner[e] = i;
-                    g->nb[e++] = j;
+                    g->nb[e] = j;
                 }
+                e++;
             }
+        if (!fill) {
+            job->counts[i] = e;
+            g->isolated[i] = job->c->templates && e == 0 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
+        }
     }
+}
+
+static void meta_count(void *arg, size_t ci, int worker)
+{
+    (void)worker;
+    meta_links(arg, ci, 0);
+}
+
+static void meta_fill(void *arg, size_t ci, int worker)
+{
+    (void)worker;
+    meta_links(arg, ci, 1);
 }
 
 void jm_grid_free(jm_grid *g, jm_mem *mem)
