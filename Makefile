@@ -41,6 +41,8 @@ LIBSO = $(BUILD)/libjetmesh.so
 FMTA  = $(BUILD)/libjetmesh_formats.a
 CLI   = $(BUILD)/jetmesh
 
+.SECONDARY:
+
 .PHONY: all deps deps-build check test-unit test-scripts demo bench fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
