@@ -103,26 +103,6 @@ static char *temp_name_for(const char *path)
     return t;
 }
 
-/* Best effort: makes the rename itself durable. */
-static void sync_parent_dir(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    char dir[PENDING_PATH];
-    if (!slash) {
-        strcpy(dir, ".");
-    } else {
-        size_t n = (size_t)(slash - path);
-        if (n == 0) n = 1; /* "/name" */
-        if (n >= sizeof dir) return;
-        memcpy(dir, path, n);
-        dir[n] = '\0';
-    }
-    int fd = open(dir, O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return;
-    (void)fsync(fd);
-    close(fd);
-}
-
 static void release(jmf_atomic_file *af)
 {
     free(af->final_path);
@@ -286,7 +266,6 @@ jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen)
     }
     if (af->temp_path) {
         pending_remove(af->temp_path);
-        sync_parent_dir(af->final_path);
     }
     release(af);
     return JMF_OK;

@@ -22,6 +22,9 @@ typedef struct jmf_atomic_file {
 jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, size_t errlen);
 
 /** Flushes, fsyncs, closes and renames the temporary over the final path.
+ *  The data reaches the disk before the rename, so even after a power loss
+ *  the final path holds either the old file or the complete new one; the
+ *  directory itself is not synced (the rename may be the part that is lost).
  *  On any failure (e.g. disk full) the temporary is removed and the final
  *  path is left as it was. */
 jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen);
