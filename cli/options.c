@@ -104,6 +104,9 @@ void options_convert_help(FILE *f)
         "\n"
         "Running:\n"
         "      --keep-going            convert every other frame after a failure\n"
+        "      --no-sync               do not fsync each output before renaming it into\n"
+        "                              place (faster; a crash of the machine may then\n"
+        "                              lose recent outputs, a killed run still cannot)\n"
         "      --resume                skip frames whose output already exists\n"
         "      --stats FILE.csv|FILE.json  per-frame statistics and a summary\n"
         "      --stats-svg FILE.svg    stacked bar chart of time per frame by stage\n"
@@ -141,7 +144,7 @@ void options_generate_help(FILE *f)
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
-    O_FRAMES, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
+    O_FRAMES, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
 };
 
 static const struct option convert_long[] = {
@@ -173,6 +176,7 @@ static const struct option convert_long[] = {
     {"stats-svg", required_argument, 0, O_STATSSVG},
     {"drop-invalid", no_argument, 0, O_DROP},
     {"keep-going", no_argument, 0, O_KEEP},
+    {"no-sync", no_argument, 0, O_NOSYNC},
     {"resume", no_argument, 0, O_RESUME},
     {"max-memory", required_argument, 0, O_MAXMEM},
     {"quiet", no_argument, 0, 'q'},
@@ -321,6 +325,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
             break;
         case O_STATSSVG: o->stats_svg = optarg; break;
         case O_DROP: o->read.drop_invalid = 1; break;
+        case O_NOSYNC: o->write.no_sync = 1; break;
         case O_KEEP: o->keep_going = 1; break;
         case O_RESUME: o->resume = 1; break;
         case O_MAXMEM:

@@ -237,7 +237,7 @@ jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen)
     } else if (ferror(af->fp)) {
         what = "write failed";
         e = EIO;
-    } else if (fsync(fileno(af->fp)) != 0 && af->temp_path) {
+    } else if (!af->no_sync && af->temp_path && fsync(fileno(af->fp)) != 0) {
         what = "fsync failed";
         e = errno;
     }

@@ -16,6 +16,9 @@ typedef struct jmf_atomic_file {
     char *final_path;
     char *temp_path;
     size_t bytes;      /**< bytes written, set by jmf_atomic_commit */
+    int no_sync;       /**< 1: skip the fsync before the rename (set after
+                            jmf_atomic_open; a killed process still never
+                            leaves a partial file, a power loss might) */
 } jmf_atomic_file;
 
 /** Creates the temporary for path (refuses a path that is a directory). */

@@ -61,12 +61,13 @@ static const char *default_generator(const jmf_write_options *opt)
 }
 
 /* Writes the whole of data to path, atomically. */
-static jmf_status write_bytes(const char *path, const void *data, size_t n, size_t *bytes,
+static jmf_status write_bytes(const char *path, const void *data, size_t n, int no_sync, size_t *bytes,
                               char *err, size_t errlen)
 {
     jmf_atomic_file af;
     jmf_status st = jmf_atomic_open(&af, path, err, errlen);
     if (st) return st;
+    af.no_sync = no_sync;
     st = jmf_atomic_write(&af, data, n, err, errlen);
     if (st) {
         jmf_atomic_abort(&af);
@@ -92,6 +93,7 @@ static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer
     jmf_atomic_file af;
     jmf_status st = jmf_atomic_open(&af, path, err, errlen);
     if (st) return st;
+    af.no_sync = opt && opt->no_sync;
     st = fn(&af, mesh, gen, err, errlen);
     if (st) {
         jmf_atomic_abort(&af);
@@ -125,7 +127,7 @@ static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_wri
     jmf_draco_blob blob;
     jmf_status st = jmf_draco_encode(mesh, &p, path, &blob, err, errlen);
     if (st) return st;
-    st = write_bytes(path, blob.data, blob.size, bytes, err, errlen);
+    st = write_bytes(path, blob.data, blob.size, opt && opt->no_sync, bytes, err, errlen);
     jmf_draco_blob_free(&blob);
     return st;
 }
@@ -174,6 +176,7 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
         static const unsigned char zeros[4];
         jmf_atomic_file af;
         st = jmf_atomic_open(&af, path, err, errlen);
+        if (!st) af.no_sync = opt && opt->no_sync;
         if (!st) st = jmf_atomic_write(&af, out.main, out.main_size, err, errlen);
         if (!st) st = jmf_atomic_write(&af, out.bin, out.bin_size, err, errlen);
         if (!st) st = jmf_atomic_write(&af, zeros, out.bin_pad, err, errlen);
@@ -184,7 +187,7 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
             jmf_atomic_abort(&af);
         }
     } else if (!bin_path || out.bin_size == 0) {
-        st = write_bytes(path, out.main, out.main_size, bytes, err, errlen);
+        st = write_bytes(path, out.main, out.main_size, opt && opt->no_sync, bytes, err, errlen);
     } else {
         /* Both temporaries are complete before either is renamed; the .bin
          * goes first so that the .gltf never names a missing buffer. */
@@ -194,6 +197,7 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
             st = jmf_atomic_open(&fg, path, err, errlen);
             if (st) jmf_atomic_abort(&fb);
         }
+        if (!st) fb.no_sync = fg.no_sync = opt && opt->no_sync;
         if (!st) {
             st = jmf_atomic_write(&fb, out.bin, out.bin_size, err, errlen);
             if (!st) st = jmf_atomic_write(&fg, out.main, out.main_size, err, errlen);

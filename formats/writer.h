@@ -33,6 +33,7 @@ typedef struct jmf_write_options {
     int draco_uv_bits;        /**< default 12 */
     int draco_speed;          /**< 0-10 encoder speed; default 5 */
     const char *generator;    /**< asset.generator; default "jetmesh <version>" */
+    int no_sync;              /**< 1: do not fsync outputs before renaming them */
 } jmf_write_options;
 
 /**

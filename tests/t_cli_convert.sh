@@ -143,6 +143,19 @@ else
     echo "note: no script(1): progress bar on a terminal not checked"
 fi
 
-# 9. no temporaries left anywhere
+# 9. --no-sync writes the same bytes (it only skips the flush to disk), and
+#    a default run does flush each output before its rename
+"$J" convert "$S/jet_040.csv" -r 0.025 -q -o "$T/sync.glb"
+"$J" convert "$S/jet_040.csv" -r 0.025 -q --no-sync -o "$T/nosync.glb"
+cmp -s "$T/sync.glb" "$T/nosync.glb" || fail "--no-sync changed the output"
+if command -v strace >/dev/null 2>&1; then
+    n=$(strace -f -e trace=fsync,fdatasync -o "$T/strace.txt" "$J" convert "$S/jet_040.csv" -r 0.025 -q -o "$T/s2.glb" && grep -c 'sync(' "$T/strace.txt")
+    [ "$n" -ge 1 ] || fail "the output was not flushed before its rename"
+    m=$(strace -f -e trace=fsync,fdatasync -o "$T/strace2.txt" "$J" convert "$S/jet_040.csv" -r 0.025 -q --no-sync -o "$T/s3.glb" && grep -c 'sync(' "$T/strace2.txt" || true)
+    [ "$m" = 0 ] || fail "--no-sync still flushed ($m)"
+fi
+echo "ok: --no-sync"
+
+# 10. no temporaries left anywhere
 if find "$T" -name '*jetmesh-tmp*' | grep -q .; then fail "temporaries left: $(find "$T" -name '*jetmesh-tmp*')"; fi
 echo "all convert checks passed"
