@@ -85,12 +85,22 @@ if [ -f samples/jet/jet_000.csv ]; then
     echo "bench.sh: convert failed (see $OUT/sequence.log)" >&2
   fi
 fi
+# the same with --no-sync (no flush to disk before each rename)
+nosync_s=null
+if [ -f samples/jet/jet_000.csv ]; then
+  rm -rf "$T"/jet_*.glb
+  t0=$(now_ns)
+  if "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$T/jet_{}.glb" -q --no-sync >>"$OUT/sequence.log" 2>&1; then
+    t1=$(now_ns)
+    nosync_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
+  fi
+fi
 t0=$(now_ns)
 i=0
 while [ $i -lt 100 ]; do "$J" --version >/dev/null; i=$((i + 1)); done
 t1=$(now_ns)
 starts_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
-echo "sequence: $seq_s s ($seq_files GLB files, ok=$seq_ok); 100 process starts: $starts_s s"
+echo "sequence: $seq_s s ($seq_files GLB files, ok=$seq_ok), --no-sync $nosync_s s; 100 process starts: $starts_s s"
 
 # --- build/bench.json -------------------------------------------------------------
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
@@ -113,8 +123,8 @@ jstr() { printf '"%s"' "$(printf '%s' "$1" | sed 's/\\/\\\\/g; s/"/\\"/g')"; }
     if [ -s "$OUT/$name.json" ]; then cat "$OUT/$name.json"; else printf 'null'; fi
     printf '}'
   done <"$OUT/exit"
-  printf '\n  ],\n  "sequence": {"frames": 100, "glb_files": %s, "ok": %s, "convert_s": %s, ' \
-    "$seq_files" "$seq_ok" "$seq_s"
+  printf '\n  ],\n  "sequence": {"frames": 100, "glb_files": %s, "ok": %s, "convert_s": %s, "no_sync_s": %s, ' \
+    "$seq_files" "$seq_ok" "$seq_s" "$nosync_s"
   printf '"process_starts": 100, "starts_s": %s,\n    "convert_command": %s, "starts_command": %s}\n}\n' \
     "$starts_s" "$(jstr "$seq_cmd")" "$(jstr "$starts_cmd")"
 } >"$BUILD/bench.json"
@@ -260,6 +270,7 @@ p();
 p("| what | wall s |");
 p("|---|--:|");
 p(`| \`jetmesh convert\` of samples/jet (100 frames → GLB, default threads) | ${S.convert_s == null ? "failed or no samples" : f(S.convert_s) + (S.ok ? "" : " (not 100 files)")} |`);
+p(`| the same with \`--no-sync\` (no flush to disk before each rename) | ${S.no_sync_s == null ? "-" : f(S.no_sync_s)} |`);
 p(`| 100 × \`jetmesh --version\` (process start and exit) | ${f(S.starts_s)} |`);
 p();
 p("```sh\n" + S.convert_command + "\n" + S.starts_command + "\n```");
