@@ -179,6 +179,63 @@ static void test_random_closed(void **s)
             }
 }
 
+/* ---- awkward sets: duplicates, planes, lines, lattice-aligned points,
+ * clusters straddling block corners, far outliers; every field, method and
+ * a few cube sizes; always closed, manifold and oriented */
+static void test_awkward_sets(void **s)
+{
+    (void)s;
+    unsigned seed = 2024;
+    for (int round = 0; round < 24; round++) {
+        size_t n = 20 + mc_rand(&seed) % 300;
+        float *xyz = malloc(3 * n * sizeof *xyz);
+        const float r = 0.025f;
+        for (size_t i = 0; i < n; i++) {
+            float *p = xyz + 3 * i;
+            switch (round % 6) {
+            case 0: /* exact duplicates mixed in */
+                for (int a = 0; a < 3; a++) p[a] = (mc_randf(&seed) - 0.5f) * 0.3f;
+                if (i % 3 == 1) memcpy(p, p - 3, 12);
+                break;
+            case 1: /* a plane z = const */
+                p[0] = (mc_randf(&seed) - 0.5f) * 0.4f;
+                p[1] = (mc_randf(&seed) - 0.5f) * 0.4f;
+                p[2] = 0.1f;
+                break;
+            case 2: /* a line, spacing 1.2 r, on lattice nodes */
+                p[0] = (float)i * 1.2f * r;
+                p[1] = p[2] = 0.0f;
+                break;
+            case 3: /* points exactly on lattice nodes (cube 0.5 r) */
+                for (int a = 0; a < 3; a++) p[a] = (float)(mc_rand(&seed) % 40) * 0.5f * r;
+                break;
+            case 4: /* a cluster around a block corner */
+                for (int a = 0; a < 3; a++) p[a] = 0.2f + (mc_randf(&seed) - 0.5f) * 0.1f;
+                break;
+            default: /* clusters plus far outliers */
+                for (int a = 0; a < 3; a++) p[a] = (mc_randf(&seed) - 0.5f) * (i % 10 == 0 ? 50.0f : 0.2f);
+                break;
+            }
+        }
+        for (int f = JM_FIELD_METASPHERE; f <= JM_FIELD_SPH; f++)
+            for (int m = JM_METHOD_MT; m <= JM_METHOD_MC; m++) {
+                jm_params p = {0};
+                p.radius = r;
+                p.field = (jm_field)f;
+                p.method = (jm_method)m;
+                p.cube_size = (round / 6) % 2 ? 0.8f : 0.5f;
+                p.threads = 1 + round % 3;
+                jm_context *ctx = make(p);
+                jm_mesh mesh;
+                mc_report rep;
+                mesh_ok(ctx, xyz, n, &mesh, &rep);
+                assert_true(mesh.triangle_count > 0);
+                jm_context_free(ctx);
+            }
+        free(xyz);
+    }
+}
+
 /* ---- byte-identical output for 1, 2 and 7 threads */
 static uint64_t mesh_hash(const jm_mesh *m)
 {
@@ -521,6 +578,7 @@ int main(void)
         cmocka_unit_test(test_metasphere_pairs),
         cmocka_unit_test(test_field_eval),
         cmocka_unit_test(test_random_closed),
+        cmocka_unit_test(test_awkward_sets),
         cmocka_unit_test(test_threads_identical),
         cmocka_unit_test(test_ids_order),
         cmocka_unit_test(test_templates),
