@@ -281,9 +281,10 @@ static int convert_one(run *r, const job *jb)
     double t2 = platform_now_ms();
     if (ms != JM_OK) {
         int status = EXIT_RESOURCE;
-        size_t est = 0;
-        if (ms == JM_E_TOO_LARGE && jm_estimate_bytes(r->ctx, &parts, &est) == JM_OK &&
-            o->max_memory && est > o->max_memory)
+        /* the library's own estimate, the one it refused on */
+        size_t est = st.estimated_bytes;
+        if (ms == JM_E_TOO_LARGE && !est) jm_estimate_bytes(r->ctx, &parts, &est);
+        if (ms == JM_E_TOO_LARGE && o->max_memory && est > o->max_memory)
             snprintf(msg, sizeof msg,
                      "%s: %zu particles need about %s of working memory, over the limit of %s: "
                      "raise --max-memory",
@@ -293,6 +294,11 @@ static int convert_one(run *r, const job *jb)
             snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
                      jm_status_message(ms));
             status = EXIT_SOME_FAILED;
+        } else if (ms == JM_E_TOO_LARGE) {
+            snprintf(msg, sizeof msg,
+                     "%s: %zu particles over a lattice far too fine for their spread "
+                     "(cube size %g r): use a larger --cube-size",
+                     f->path, fr.count, (double)o->params.cube_size > 0 ? (double)o->params.cube_size : 0.5);
         } else {
             snprintf(msg, sizeof msg, "%s: %s", f->path, jm_status_message(ms));
             if (ms == JM_E_INVALID_ARGUMENT)

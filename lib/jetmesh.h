@@ -106,8 +106,8 @@ typedef enum jm_status {
     JM_E_INVALID_PARTICLE, /**< a coordinate is NaN or infinite */
     JM_E_OUT_OF_MEMORY,    /**< an allocation failed */
     JM_E_TOO_LARGE,        /**< estimate over params.max_bytes, a lattice
-                                coordinate beyond +-2^30 cubes, or over 2^26
-                                lattice blocks to visit (a cube size absurdly
+                                coordinate beyond +-2^30 cubes, or over 3.4e10
+                                lattice nodes to sample (a cube size absurdly
                                 small for the particles' spread) */
     JM_E_THREAD,           /**< worker threads could not be started */
     JM_E_INTERNAL          /**< a bug: please report it */

@@ -320,9 +320,9 @@ static size_t estimate(const jm_config *c, size_t n, size_t nblocks, int threads
 }
 
 /* Lattices far finer than the particles (a tiny cube size for the radius)
- * would visit absurd numbers of blocks: at most this many (each is up to
- * 33^3 samples; a dense 100M-particle frame needs about half a million). */
-#define JM_MAX_BLOCKS ((double)(1u << 26))
+ * would sample absurd numbers of nodes: at most this many (a dense
+ * 100M-particle frame at r/2 samples about 8e9). */
+#define JM_MAX_SAMPLES 3.4e10
 
 static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs, int threads,
                               size_t *out_estimate)
@@ -350,7 +350,8 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
     }
     double bound = cand < box ? cand : box;
     *out_estimate = estimate(c, g->n, bound > 1e15 ? (size_t)1e15 : (size_t)bound, threads);
-    if (bound > JM_MAX_BLOCKS || (c->max_bytes && *out_estimate > c->max_bytes)) return JM_E_TOO_LARGE;
+    const double per_block = (double)(c->block + 1) * (c->block + 1) * (c->block + 1);
+    if (bound * per_block > JM_MAX_SAMPLES || (c->max_bytes && *out_estimate > c->max_bytes)) return JM_E_TOO_LARGE;
     jm_hashmap set;
     jm_status st = jm_hashmap_init(&set, mem, g->ncells * 2 + 16);
     if (st != JM_OK) return st;

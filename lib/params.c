@@ -9,7 +9,7 @@ const char *jm_status_message(jm_status status)
     case JM_E_INVALID_ARGUMENT: return "invalid argument";
     case JM_E_INVALID_PARTICLE: return "a particle coordinate is NaN or infinite";
     case JM_E_OUT_OF_MEMORY: return "out of memory";
-    case JM_E_TOO_LARGE: return "frame too large for the memory limit or the lattice range";
+    case JM_E_TOO_LARGE: return "frame too large: over the memory limit, or a lattice far too fine for the particles' spread";
     case JM_E_THREAD: return "worker threads could not be started";
     case JM_E_INTERNAL: return "internal error (a bug in jetmesh)";
     }

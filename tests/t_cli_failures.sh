@@ -88,4 +88,11 @@ echo "ok: exit 3 for --max-memory"
 : >"$T/notadir"
 run 1 convert "$S/jet_020.csv" -r 0.025 -o "$T/notadir/x.obj"
 grep -q 'notadir' "$T/err" || { cat "$T/err"; fail "write error does not name the path"; }
+
+# 8. a lattice absurdly fine for the particles' spread: refused at once (not
+#    hours of sampling), even with no memory limit, with the option to change
+run 3 convert "$S/jet_050.csv" -r 1 -c 0.001 --field sph --max-memory 0 -o "$T/fine.glb"
+grep -q -- '--cube-size' "$T/err" || { cat "$T/err"; fail "no hint to raise --cube-size"; }
+[ ! -e "$T/fine.glb" ] || fail "an output was written for a refused frame"
+echo "ok: absurd lattice refused"
 echo "all failure checks passed"
