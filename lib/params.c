@@ -71,11 +71,13 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
         c->influence = reach + c->margin;
         c->cell = c->link > c->influence ? c->link : c->influence;
     }
-    /* blocks about three influence radii wide: measured best for both
-     * fields (bigger blocks waste nodes on thin jets, smaller ones repeat
-     * the per-block work and the stitching) */
+    /* blocks three (SPH) or four (metasphere) influence radii wide: measured
+     * best (bigger blocks waste nodes on thin jets and sample more per block
+     * than the dense SPH splat likes; smaller ones repeat the per-block work
+     * and the stitching) */
     {
-        int b = (int)lrintf(3.0f * c->influence / c->h);
+        float k = p.field == JM_FIELD_SPH ? 3.0f : 4.0f;
+        int b = (int)lrintf(k * c->influence / c->h);
         c->block = b < 8 ? 8 : (b > 32 ? 32 : b);
     }
     c->uv_mode = p.uv_mode;
