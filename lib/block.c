@@ -195,10 +195,21 @@ static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t can
     cand_eval(g, c, cand, p, n, &glen, nrm);
 }
 
-static int cmp_pair(const void *a, const void *b)
+/* Sorts (slot, index) pairs by slot. They are made in scan order, so
+ * nearly sorted already: insertion sort is about linear here. */
+static void sort_pairs(uint32_t *p, size_t n)
 {
-    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
-    return x < y ? -1 : x > y;
+    for (size_t i = 1; i < n; i++) {
+        uint32_t k = p[2 * i], v = p[2 * i + 1];
+        size_t j = i;
+        while (j > 0 && p[2 * (j - 1)] > k) {
+            p[2 * j] = p[2 * (j - 1)];
+            p[2 * j + 1] = p[2 * (j - 1) + 1];
+            j--;
+        }
+        p[2 * j] = k;
+        p[2 * j + 1] = v;
+    }
 }
 
 void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
@@ -358,7 +369,7 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    if (out->nb > 1) qsort(out->bmap, out->nb, 2 * sizeof(uint32_t), cmp_pair);
+    sort_pairs(out->bmap, out->nb);
     if (!meta && want_nrm && out->nv) {
         jm_sph_gather(g, c, &s->hood, lo, hi, &s->soa);
         if (s->soa.n == SIZE_MAX) { out->failed = 1; return; }
