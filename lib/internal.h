@@ -135,6 +135,5 @@ typedef struct jm_grid {
     size_t n_isolated;
 } jm_grid;
 
-typedef struct jm_context_s_fwd jm_context_fwd;
 
 #endif

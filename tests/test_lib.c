@@ -11,6 +11,7 @@
 
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
+#include "../lib/tables.h" /* internal: the generated case tables */
 
 static jm_context *make(jm_params p)
 {
@@ -81,6 +82,35 @@ static void test_sphere_volume_mc(void **s)
     one_sphere(JM_METHOD_MC, 0.25f, 0.01, 0);
     one_sphere(JM_METHOD_MC, 0.125f, 0.003, 0);
     one_sphere(JM_METHOD_MC, 0.125f, 0.003, 1);
+}
+
+/* ---- the generated tables: every triangle corner sits on a crossed edge,
+ * marching cubes fans never lie in a cube face, and each table is the
+ * mirror of its complement (same edges, opposite orientation count) */
+static void test_tables(void **s)
+{
+    (void)s;
+    assert_true(jm_tables_consistent());
+    const jm_case_table *tabs[2] = {jm_table_mc(), jm_table_mt()};
+    for (int t = 0; t < 2; t++)
+        for (int cfg = 0; cfg < 256; cfg++) {
+            const jm_case_table *tab = tabs[t];
+            if (cfg == 0 || cfg == 255) assert_int_equal(tab->ntri[cfg], 0);
+            else assert_true(tab->ntri[cfg] > 0);
+            for (int k = 0; k < 3 * tab->ntri[cfg]; k++) {
+                int e = tab->edges[cfg][k];
+                if (t == 0) assert_true(e < 12);
+                int a = jm_cube_edge_corner[e];
+                const int *d = jm_dir[jm_cube_edge_dir[e]];
+                int b = a + d[0] + 2 * d[1] + 4 * d[2];
+                assert_true(((cfg >> a) & 1) != ((cfg >> b) & 1));
+            }
+            /* the complement crosses the same edges */
+            unsigned long used = 0, used_c = 0;
+            for (int k = 0; k < 3 * tab->ntri[cfg]; k++) used |= 1ul << tab->edges[cfg][k];
+            for (int k = 0; k < 3 * tab->ntri[255 - cfg]; k++) used_c |= 1ul << tab->edges[255 - cfg][k];
+            assert_true(used == used_c);
+        }
 }
 
 /* ---- metasphere topology */
@@ -575,6 +605,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sphere_volume_mt),
         cmocka_unit_test(test_sphere_volume_mc),
+        cmocka_unit_test(test_tables),
         cmocka_unit_test(test_metasphere_pairs),
         cmocka_unit_test(test_field_eval),
         cmocka_unit_test(test_random_closed),
