@@ -182,7 +182,14 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
         if ((f > 0.0f) == (fa > 0.0f)) ta = t; else tb = t;
         float df = -glen * (n[0] * ab[0] + n[1] * ab[1] + n[2] * ab[2]);
         float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
-        if (!(tn > ta && tn < tb)) tn = 0.5f * (ta + tb);
+        if (!(tn > ta && tn < tb)) {
+            tn = 0.5f * (ta + tb);
+        } else if (fabsf(tn - t) < 1e-3f) {
+            /* a Newton step of under a thousandth of the edge: done, with
+             * the normal of the point just evaluated beside it */
+            *have_nrm = 1;
+            return tn;
+        }
         t = tn;
     }
     return t;
