@@ -63,11 +63,10 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
             }                                                                                              \
         }                                                                                                  \
     }                                                                                                      \
-    (void)f;
 
 #define SAMPLE_ARGS                                                                                       \
     const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
-        int n, float *f, float *pad
+        int n, float *pad
 
 static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c) }
 
@@ -127,8 +126,8 @@ static void choose(void)
 void jm_sph_sample(SAMPLE_ARGS)
 {
     pthread_once(&once, choose);
-    chosen(g, c, hood, x, y, z, n, f, pad);
+    chosen(g, c, hood, x, y, z, n, pad);
 }
 #else
-void jm_sph_sample(SAMPLE_ARGS) { sample_c(g, c, hood, x, y, z, n, f, pad); }
+void jm_sph_sample(SAMPLE_ARGS) { sample_c(g, c, hood, x, y, z, n, pad); }
 #endif
