@@ -54,6 +54,8 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
     const uint32_t np = (uint32_t)g->n;
     const float r = c->r, inv_r = 1.0f / r, reach = r + c->margin, reach2 = reach * reach, inv_h = c->inv_h;
     const float floor_v = -c->margin * inv_r;
+    /* 1.02: float slack on the bound below */
+    const float neck_reach = fminf(reach, 1.02f * r), neck_len = 1.5707f * r;
     size_t nn = (size_t)n * n * n;
     for (size_t i = 0; i < nn; i++) {
         f[i] = floor_v;
@@ -86,15 +88,21 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
                     }
                 }
             }
-            /* half-necks toward each linked neighbour */
+            /* half-necks toward each linked neighbour. Up to pi/2 r along
+             * its axis a half-neck beats its own particle's ball only closer
+             * than r to the axis (cos(s) - q > 1 - sqrt(s^2 + q^2), lengths
+             * in units of r, needs q + sqrt(s^2 + q^2) < s^2 / (1 - cos s),
+             * never met for q >= 1): farther out that ball, splatted above,
+             * already holds the maximum, so the box hugs the axis closer. */
             for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
                 const float *u = &g->nb_dir[4 * (size_t)e];
                 const float half = 0.5f * u[3];
+                const float nr = half <= neck_len ? neck_reach : reach;
                 float lo[3], hi[3];
                 for (int a = 0; a < 3; a++) {
                     float m = q[a] + u[a] * half;
-                    lo[a] = fminf(q[a], m) - reach;
-                    hi[a] = fmaxf(q[a], m) + reach;
+                    lo[a] = fminf(q[a], m) - nr;
+                    hi[a] = fmaxf(q[a], m) + nr;
                 }
                 node_span(x, n, inv_h, lo[0], hi[0], &i0, &i1);
                 node_span(y, n, inv_h, lo[1], hi[1], &j0, &j1);
