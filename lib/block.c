@@ -184,9 +184,11 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
         float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
         if (!(tn > ta && tn < tb)) {
             tn = 0.5f * (ta + tb);
-        } else if (fabsf(tn - t) < 1e-3f) {
-            /* a Newton step of under a thousandth of the edge: done, with
-             * the normal of the point just evaluated beside it */
+        } else if (fabsf(tn - t) < 0.1f) {
+            /* a Newton step of under a tenth of the edge: done (the error
+             * left is second order in the step, about 1e-3 of the edge
+             * here), with the normal of the point just evaluated beside it
+             * (about 1.5 degrees mean difference on the jet) */
             *have_nrm = 1;
             return tn;
         }
