@@ -110,6 +110,7 @@ static void release(jmf_atomic_file *af)
     af->final_path = NULL;
     af->temp_path = NULL;
     af->fp = NULL;
+    af->finished = 0;
 }
 
 jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, size_t errlen)
@@ -222,28 +223,47 @@ jmf_status jmf_atomic_write(jmf_atomic_file *af, const void *data, size_t n,
     return JMF_OK;
 }
 
-jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen)
+/* fails af: message, temporary removed, af released */
+static jmf_status fail_file(jmf_atomic_file *af, const char *what, int e, char *err, size_t errlen)
+{
+    if (af->fp) fclose(af->fp);
+    af->fp = NULL;
+    set_err(err, errlen, "%s: %s: %s", af->final_path, what, strerror(e ? e : EIO));
+    if (af->temp_path) {
+        unlink(af->temp_path);
+        pending_remove(af->temp_path);
+    }
+    release(af);
+    return JMF_E_IO;
+}
+
+jmf_status jmf_atomic_finish(jmf_atomic_file *af, char *err, size_t errlen)
 {
     if (!af || !af->fp) {
         set_err(err, errlen, "commit of a file that is not open");
         return JMF_E_IO;
     }
+    errno = 0;
+    if (fflush(af->fp) != 0) return fail_file(af, "write failed", errno, err, errlen);
+    if (ferror(af->fp)) return fail_file(af, "write failed", EIO, err, errlen);
+    off_t pos = ftello(af->fp);
+    af->bytes = pos > 0 ? (size_t)pos : 0;
+    af->finished = 1;
+    return JMF_OK;
+}
+
+jmf_status jmf_atomic_publish(jmf_atomic_file *af, char *err, size_t errlen)
+{
+    if (!af || !af->finished || !af->fp) {
+        set_err(err, errlen, "publish of a file that is not finished");
+        return JMF_E_IO;
+    }
     const char *what = NULL;
     int e = 0;
     errno = 0;
-    if (fflush(af->fp) != 0) {
-        what = "write failed";
-        e = errno;
-    } else if (ferror(af->fp)) {
-        what = "write failed";
-        e = EIO;
-    } else if (!af->no_sync && af->temp_path && fsync(fileno(af->fp)) != 0) {
+    if (!af->no_sync && af->temp_path && fsync(fileno(af->fp)) != 0) {
         what = "fsync failed";
         e = errno;
-    }
-    if (!what) {
-        off_t pos = ftello(af->fp);
-        af->bytes = pos > 0 ? (size_t)pos : 0;
     }
     errno = 0;
     if (fclose(af->fp) != 0 && !what) {
@@ -255,20 +275,16 @@ jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen)
         what = "rename failed";
         e = errno;
     }
-    if (what) {
-        set_err(err, errlen, "%s: %s: %s", af->final_path, what, strerror(e ? e : EIO));
-        if (af->temp_path) {
-            unlink(af->temp_path);
-            pending_remove(af->temp_path);
-        }
-        release(af);
-        return JMF_E_IO;
-    }
-    if (af->temp_path) {
-        pending_remove(af->temp_path);
-    }
+    if (what) return fail_file(af, what, e, err, errlen);
+    if (af->temp_path) pending_remove(af->temp_path);
     release(af);
     return JMF_OK;
+}
+
+jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen)
+{
+    jmf_status st = jmf_atomic_finish(af, err, errlen);
+    return st ? st : jmf_atomic_publish(af, err, errlen);
 }
 
 void jmf_atomic_abort(jmf_atomic_file *af)

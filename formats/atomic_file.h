@@ -19,6 +19,7 @@ typedef struct jmf_atomic_file {
     int no_sync;       /**< 1: skip the fsync before the rename (set after
                             jmf_atomic_open; a killed process still never
                             leaves a partial file, a power loss might) */
+    int finished;      /**< set by jmf_atomic_finish */
 } jmf_atomic_file;
 
 /** Creates the temporary for path (refuses a path that is a directory). */
@@ -31,6 +32,17 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
  *  On any failure (e.g. disk full) the temporary is removed and the final
  *  path is left as it was. */
 jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen);
+
+/** The two halves of jmf_atomic_commit, for an output that is complete
+ *  before it may appear (frames converted ahead of their turn): finish
+ *  flushes the data to the kernel and sets bytes, keeping the file open
+ *  and the temporary in place (still removed by jmf_atomic_remove_pending);
+ *  publish fsyncs (unless no_sync), closes and renames it into place, so
+ *  the wait for the disk can happen on another thread. After a finish,
+ *  either publish or abort. On failure each removes the temporary and
+ *  releases af. */
+jmf_status jmf_atomic_finish(jmf_atomic_file *af, char *err, size_t errlen);
+jmf_status jmf_atomic_publish(jmf_atomic_file *af, char *err, size_t errlen);
 
 /** Writes n bytes to the temporary. On a short write (disk full, file too
  *  large, I/O error) returns JMF_E_IO with one line naming the final path

@@ -60,9 +60,20 @@ static const char *default_generator(const jmf_write_options *opt)
     return opt && opt->generator ? opt->generator : "jetmesh " JM_VERSION_STRING;
 }
 
+/* Commits af, or with a stage, finishes it and hands it to the stage to be
+ * published later; adds its bytes. */
+static jmf_status commit_or_stage(jmf_atomic_file *af, jmf_staged *stage, size_t *bytes, char *err, size_t errlen)
+{
+    jmf_status st = stage ? jmf_atomic_finish(af, err, errlen) : jmf_atomic_commit(af, err, errlen);
+    if (st) return st;
+    *bytes += af->bytes;
+    if (stage) stage->files[stage->count++] = *af;
+    return JMF_OK;
+}
+
 /* Writes the whole of data to path, atomically. */
 static jmf_status write_bytes(const char *path, const void *data, size_t n, int no_sync, size_t *bytes,
-                              char *err, size_t errlen)
+                              jmf_staged *stage, char *err, size_t errlen)
 {
     jmf_atomic_file af;
     jmf_status st = jmf_atomic_open(&af, path, err, errlen);
@@ -73,16 +84,14 @@ static jmf_status write_bytes(const char *path, const void *data, size_t n, int 
         jmf_atomic_abort(&af);
         return st;
     }
-    st = jmf_atomic_commit(&af, err, errlen);
-    if (!st) *bytes += af.bytes;
-    return st;
+    return commit_or_stage(&af, stage, bytes, err, errlen);
 }
 
 typedef jmf_status (*c_writer)(jmf_atomic_file *, const jm_mesh *, const char *, char *, size_t);
 
 static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer fn,
                                  const jmf_write_options *opt, size_t *bytes,
-                                 char *err, size_t errlen)
+                                 jmf_staged *stage, char *err, size_t errlen)
 {
     /* The text formats carry the generator on one header line: keep it to
      * one line of reasonable length. */
@@ -99,9 +108,7 @@ static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer
         jmf_atomic_abort(&af);
         return st;
     }
-    st = jmf_atomic_commit(&af, err, errlen);
-    if (!st) *bytes += af.bytes;
-    return st;
+    return commit_or_stage(&af, stage, bytes, err, errlen);
 }
 
 static jmf_draco_params draco_params(const jmf_write_options *opt, const jm_mesh *mesh)
@@ -121,13 +128,13 @@ static jmf_draco_params draco_params(const jmf_write_options *opt, const jm_mesh
 }
 
 static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
-                            size_t *bytes, char *err, size_t errlen)
+                            size_t *bytes, jmf_staged *stage, char *err, size_t errlen)
 {
     jmf_draco_params p = draco_params(opt, mesh);
     jmf_draco_blob blob;
     jmf_status st = jmf_draco_encode(mesh, &p, path, &blob, err, errlen);
     if (st) return st;
-    st = write_bytes(path, blob.data, blob.size, opt && opt->no_sync, bytes, err, errlen);
+    st = write_bytes(path, blob.data, blob.size, opt && opt->no_sync, bytes, stage, err, errlen);
     jmf_draco_blob_free(&blob);
     return st;
 }
@@ -146,7 +153,7 @@ static char *bin_path_for(const char *path)
 
 static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int draco,
                              const jmf_write_options *opt, size_t *bytes,
-                             char *err, size_t errlen)
+                             jmf_staged *stage, char *err, size_t errlen)
 {
     jmf_gltf_params p;
     memset(&p, 0, sizeof p);
@@ -181,13 +188,12 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
         if (!st) st = jmf_atomic_write(&af, out.bin, out.bin_size, err, errlen);
         if (!st) st = jmf_atomic_write(&af, zeros, out.bin_pad, err, errlen);
         if (!st) {
-            st = jmf_atomic_commit(&af, err, errlen);
-            if (!st) *bytes += af.bytes;
+            st = commit_or_stage(&af, stage, bytes, err, errlen);
         } else if (af.fp) {
             jmf_atomic_abort(&af);
         }
     } else if (!bin_path || out.bin_size == 0) {
-        st = write_bytes(path, out.main, out.main_size, opt && opt->no_sync, bytes, err, errlen);
+        st = write_bytes(path, out.main, out.main_size, opt && opt->no_sync, bytes, stage, err, errlen);
     } else {
         /* Both temporaries are complete before either is renamed; the .bin
          * goes first so that the .gltf never names a missing buffer. */
@@ -201,12 +207,10 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
         if (!st) {
             st = jmf_atomic_write(&fb, out.bin, out.bin_size, err, errlen);
             if (!st) st = jmf_atomic_write(&fg, out.main, out.main_size, err, errlen);
-            if (!st) st = jmf_atomic_commit(&fb, err, errlen);
+            if (!st) st = commit_or_stage(&fb, stage, bytes, err, errlen);
             else jmf_atomic_abort(&fb);
             if (!st) {
-                *bytes += fb.bytes;
-                st = jmf_atomic_commit(&fg, err, errlen);
-                if (!st) *bytes += fg.bytes;
+                st = commit_or_stage(&fg, stage, bytes, err, errlen);
             } else {
                 jmf_atomic_abort(&fg);
             }
@@ -217,9 +221,8 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
     return st;
 }
 
-jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
-                          const jmf_write_options *opt, size_t *out_bytes,
-                          char *err, size_t errlen)
+static jmf_status write_mesh(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
+                             size_t *out_bytes, jmf_staged *stage, char *err, size_t errlen)
 {
     size_t bytes = 0;
     if (out_bytes) *out_bytes = 0;
@@ -258,13 +261,47 @@ jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
     }
     jmf_status st;
     switch (f) {
-    case JMF_OUT_OBJ: st = write_c_format(path, mesh, jmf_write_obj, opt, &bytes, err, errlen); break;
-    case JMF_OUT_PLY: st = write_c_format(path, mesh, jmf_write_ply, opt, &bytes, err, errlen); break;
-    case JMF_OUT_VTK: st = write_c_format(path, mesh, jmf_write_vtk, opt, &bytes, err, errlen); break;
-    case JMF_OUT_DRC: st = write_drc(path, mesh, opt, &bytes, err, errlen); break;
-    case JMF_OUT_GLTF: st = write_gltf(path, mesh, 0, draco, opt, &bytes, err, errlen); break;
-    default: st = write_gltf(path, mesh, 1, draco, opt, &bytes, err, errlen); break;
+    case JMF_OUT_OBJ: st = write_c_format(path, mesh, jmf_write_obj, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_PLY: st = write_c_format(path, mesh, jmf_write_ply, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_VTK: st = write_c_format(path, mesh, jmf_write_vtk, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_DRC: st = write_drc(path, mesh, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_GLTF: st = write_gltf(path, mesh, 0, draco, opt, &bytes, stage, err, errlen); break;
+    default: st = write_gltf(path, mesh, 1, draco, opt, &bytes, stage, err, errlen); break;
     }
     if (!st && out_bytes) *out_bytes = bytes;
     return st;
+}
+
+jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh, const jmf_write_options *opt, size_t *out_bytes,
+                          char *err, size_t errlen)
+{
+    return write_mesh(path, mesh, opt, out_bytes, NULL, err, errlen);
+}
+
+jmf_status jmf_write_mesh_staged(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
+                                 size_t *out_bytes, jmf_staged *out_staged, char *err, size_t errlen)
+{
+    if (!out_staged) return write_mesh(path, mesh, opt, out_bytes, NULL, err, errlen);
+    memset(out_staged, 0, sizeof *out_staged);
+    jmf_status st = write_mesh(path, mesh, opt, out_bytes, out_staged, err, errlen);
+    if (st) jmf_staged_abort(out_staged);
+    return st;
+}
+
+jmf_status jmf_staged_publish(jmf_staged *s, char *err, size_t errlen)
+{
+    jmf_status st = JMF_OK;
+    for (int i = 0; i < s->count; i++) {
+        if (!st) st = jmf_atomic_publish(&s->files[i], err, errlen);
+        else jmf_atomic_abort(&s->files[i]); /* the .gltf of a .bin that failed */
+    }
+    s->count = 0;
+    return st;
+}
+
+void jmf_staged_abort(jmf_staged *s)
+{
+    if (!s) return;
+    for (int i = 0; i < s->count; i++) jmf_atomic_abort(&s->files[i]);
+    s->count = 0;
 }

@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 #include "reader.h"       /* jmf_status */
+#include "atomic_file.h"
 #include "../lib/jetmesh.h"
 
 #ifdef __cplusplus
@@ -46,6 +47,24 @@ typedef struct jmf_write_options {
 jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh,
                           const jmf_write_options *opt, size_t *out_bytes,
                           char *err, size_t errlen);
+
+/** An output written completely to temporaries (flushed to the kernel; not
+ *  yet synced or renamed into place): a .gltf's .bin comes first. */
+typedef struct jmf_staged {
+    jmf_atomic_file files[2];
+    int count;
+} jmf_staged;
+
+/** jmf_write_mesh, stopping short of the renames: on success out_staged
+ *  holds the finished temporaries, for jmf_staged_publish (renames them
+ *  in order) or jmf_staged_abort (removes them). On failure nothing is
+ *  left. Lets a converter write frames ahead and publish them in order. */
+jmf_status jmf_write_mesh_staged(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
+                                 size_t *out_bytes, jmf_staged *out_staged, char *err, size_t errlen);
+/** Syncs (unless no_sync) and renames the staged files, in order. */
+jmf_status jmf_staged_publish(jmf_staged *s, char *err, size_t errlen);
+/** Accepts NULL and an empty stage. */
+void jmf_staged_abort(jmf_staged *s);
 
 /** The format jmf_write_mesh would use for path and opt (resolves AUTO);
  *  sets *out_draco for the ".draco.glb" convention. -1 if unknown. */

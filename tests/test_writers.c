@@ -800,6 +800,51 @@ static void test_atomic_commit_and_names(void **state)
     assert_int_equal(st.st_size, 0);
 }
 
+/* A staged output: complete temporaries, nothing at the targets until
+ * published (bytes as jmf_write_mesh writes them, the .bin before the
+ * .gltf); an abort leaves the old files and no temporary. */
+static void test_staged_publish_and_abort(void **state)
+{
+    (void)state;
+    char err[512];
+    test_mesh tm;
+    make("octahedron", &tm);
+    size_t want_n, got_n, bytes = 0;
+    assert_int_equal(write_path(in_dir("ref.glb"), &tm.mesh, NULL, NULL, err), JMF_OK);
+    unsigned char *want = test_read_file(in_dir("ref.glb"), &want_n);
+
+    jmf_staged sg;
+    assert_int_equal(jmf_write_mesh_staged(in_dir("st.glb"), &tm.mesh, NULL, &bytes, &sg, err, sizeof err), JMF_OK);
+    assert_int_equal(sg.count, 1);
+    assert_int_equal(bytes, want_n);
+    assert_int_equal(file_size(in_dir("st.glb")), -1);
+    assert_int_equal(temp_files(), 1);
+    assert_int_equal(jmf_staged_publish(&sg, err, sizeof err), JMF_OK);
+    assert_int_equal(temp_files(), 0);
+    unsigned char *got = test_read_file(in_dir("st.glb"), &got_n);
+    assert_int_equal(got_n, want_n);
+    assert_memory_equal(got, want, want_n);
+    free(got);
+
+    /* .gltf + .bin: two files staged, the .bin first */
+    assert_int_equal(jmf_write_mesh_staged(in_dir("st.gltf"), &tm.mesh, NULL, NULL, &sg, err, sizeof err), JMF_OK);
+    assert_int_equal(sg.count, 2);
+    assert_non_null(strstr(sg.files[0].final_path, "st.bin"));
+    assert_int_equal(temp_files(), 2);
+    assert_int_equal(jmf_staged_publish(&sg, err, sizeof err), JMF_OK);
+    assert_true(file_size(in_dir("st.gltf")) > 0 && file_size(in_dir("st.bin")) > 0);
+
+    /* abort: the old file stays, no temporary is left */
+    spit(in_dir("old.glb"), "old\n");
+    assert_int_equal(jmf_write_mesh_staged(in_dir("old.glb"), &tm.mesh, NULL, NULL, &sg, err, sizeof err), JMF_OK);
+    jmf_staged_abort(&sg);
+    jmf_staged_abort(NULL);
+    assert_true(file_equals(in_dir("old.glb"), "old\n"));
+    assert_int_equal(temp_files(), 0);
+    free(want);
+    test_mesh_free(&tm);
+}
+
 static void test_atomic_abort_keeps_target(void **state)
 {
     (void)state;
@@ -975,6 +1020,7 @@ int main(void)
         cmocka_unit_test(test_atomic_abort_keeps_target),
         cmocka_unit_test(test_atomic_remove_pending),
         cmocka_unit_test(test_atomic_refuses_directory),
+        cmocka_unit_test(test_staged_publish_and_abort),
         cmocka_unit_test(test_atomic_missing_parent),
         cmocka_unit_test(test_atomic_failed_write_keeps_target),
         cmocka_unit_test(test_dev_full),
