@@ -10,6 +10,7 @@
 #include "../formats/reader.h"
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
+#include "farm.h"
 #include "options.h"
 #include "platform.h"
 #include "progress.h"
@@ -23,12 +24,26 @@ typedef struct job {
     char *out;
 } job;
 
+/* What converting one frame gave, kept until its turn to be reported. */
+typedef struct outcome {
+    stats_record rec;  /* no input/output strings; error owned here */
+    jm_stats st;       /* for --verbose */
+    jmf_staged staged; /* the finished output, not yet renamed into place */
+    int status;        /* exit status of a failure */
+    int retry;         /* refused over its share of --max-memory: redo alone */
+    int done;          /* converted (by a worker, ahead of its turn) */
+} outcome;
+
 typedef struct run {
     convert_options *o;
     seq_list frames;
     job *jobs;
     size_t njobs;
-    jm_context *ctx;
+    jm_context *ctx;   /* one frame at a time: all threads, all the memory */
+    jm_context **wctx; /* several at once: one per worker */
+    int nwctx;
+    jmf_read_options wread; /* the workers' share of --max-memory */
+    outcome *oc;
     stats_log log;
     progress bar;
     size_t failed;
@@ -214,52 +229,45 @@ static void print_params(const run *r)
     fflush(stdout);
 }
 
-/* Records a failed frame: message on stderr, status. */
-static void frame_failed(run *r, stats_record *rec, const char *msg, int status)
-{
-    stats_fail(rec, msg);
-    progress_clear(&r->bar);
-    fprintf(stderr, "jetmesh: frame %ld: %s\n", rec->index, msg);
-    fflush(stderr);
-    r->failed++;
-    if (status > r->worst)
-        r->worst = status;
-}
-
 static int read_status(jmf_status s)
 {
     return s == JMF_E_NOMEM || s == JMF_E_LIMIT ? EXIT_RESOURCE : EXIT_SOME_FAILED;
 }
 
-/* Converts one frame; returns 0 when it went well (or was skipped). */
-static int convert_one(run *r, const job *jb)
+/* Marks an outcome failed with msg and the exit status it implies. */
+static void outcome_fail(outcome *oc, const char *msg, int status)
 {
-    convert_options *o = r->o;
+    stats_fail(&oc->rec, msg);
+    oc->status = status;
+}
+
+/* Reads, meshes and writes one frame with ctx, staging the output (its
+ * temporaries complete, not yet renamed). Prints nothing: the outcome is
+ * reported in frame order by report(). shared: ctx has only a share of
+ * --max-memory, so a refusal over that share asks for a retry alone. */
+static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_read_options *read,
+                          int shared, const job *jb, outcome *oc)
+{
     const seq_frame *f = jb->in;
     char err[1024], msg[1400], b1[32], b2[32];
-    stats_record *rec = stats_add(&r->log, f->index, f->path, jb->out);
-    if (!rec) {
-        fprintf(stderr, "jetmesh: out of memory\n");
-        r->worst = EXIT_RESOURCE;
-        r->failed++;
-        return -1;
-    }
+    memset(oc, 0, sizeof *oc);
+    oc->rec.index = f->index;
     if (o->resume && platform_is_file(jb->out)) {
-        rec->status = STATS_SKIPPED;
-        if (!o->quiet) {
-            progress_clear(&r->bar);
-            printf("frame %ld %s: skipped, %s exists (--resume)\n", f->index, f->path, jb->out);
-            fflush(stdout);
-        }
-        return 0;
+        oc->rec.status = STATS_SKIPPED;
+        return;
     }
+    stats_record *rec = &oc->rec;
     double t0 = platform_now_ms();
     jmf_frame fr;
     memset(&fr, 0, sizeof fr);
-    jmf_status rs = jmf_read_particles(f->path, &o->read, &fr, err, sizeof err);
+    jmf_status rs = jmf_read_particles(f->path, read, &fr, err, sizeof err);
     double t1 = platform_now_ms();
     rec->ms_read = t1 - t0;
     if (rs != JMF_OK) {
+        if (rs == JMF_E_LIMIT && shared) {
+            oc->retry = 1;
+            return;
+        }
         if (rs == JMF_E_LIMIT)
             snprintf(msg, sizeof msg, "%s (over --max-memory %s: raise --max-memory)", err,
                      platform_format_bytes(o->max_memory, b1, sizeof b1));
@@ -267,23 +275,27 @@ static int convert_one(run *r, const job *jb)
             snprintf(msg, sizeof msg, "%s", err);
         rec->ms_total = rec->ms_read;
         rec->peak_rss_bytes = platform_peak_rss();
-        frame_failed(r, rec, msg, read_status(rs));
-        return -1;
+        outcome_fail(oc, msg, read_status(rs));
+        return;
     }
     rec->particles = fr.count;
     rec->dropped = fr.dropped;
     jm_particles parts = {fr.xyz, fr.count, 0, fr.ids};
     jm_mesh mesh;
-    jm_stats st;
+    jm_stats *st = &oc->st;
     memset(&mesh, 0, sizeof mesh);
-    memset(&st, 0, sizeof st);
-    jm_status ms = jm_mesh_particles(r->ctx, &parts, &mesh, &st);
+    jm_status ms = jm_mesh_particles(ctx, &parts, &mesh, st);
     double t2 = platform_now_ms();
     if (ms != JM_OK) {
         int status = EXIT_RESOURCE;
         /* the library's own estimate, the one it refused on */
-        size_t est = st.estimated_bytes;
-        if (ms == JM_E_TOO_LARGE && !est) jm_estimate_bytes(r->ctx, &parts, &est);
+        size_t est = st->estimated_bytes;
+        if (ms == JM_E_TOO_LARGE && !est) jm_estimate_bytes(ctx, &parts, &est);
+        if (shared && (ms == JM_E_TOO_LARGE || ms == JM_E_OUT_OF_MEMORY)) {
+            jmf_frame_free(&fr);
+            oc->retry = 1;
+            return;
+        }
         if (ms == JM_E_TOO_LARGE && o->max_memory && est > o->max_memory)
             snprintf(msg, sizeof msg,
                      "%s: %zu particles need about %s of working memory, over the limit of %s: "
@@ -305,20 +317,20 @@ static int convert_one(run *r, const job *jb)
                 status = EXIT_SOME_FAILED;
         }
         jmf_frame_free(&fr);
-        rec->ms_field = st.ms_prepare + st.ms_field;
+        rec->ms_field = st->ms_prepare + st->ms_field;
         rec->ms_total = t2 - t0;
         rec->peak_rss_bytes = platform_peak_rss();
-        rec->lib_peak_bytes = st.peak_bytes;
-        frame_failed(r, rec, msg, status);
-        return -1;
+        rec->lib_peak_bytes = st->peak_bytes;
+        outcome_fail(oc, msg, status);
+        return;
     }
     jmf_frame_free(&fr); /* the library keeps no pointer to the particles */
     rec->vertices = mesh.vertex_count;
     rec->triangles = mesh.triangle_count;
-    rec->ms_field = st.ms_prepare + st.ms_field;
-    rec->ms_extract = st.ms_extract;
-    rec->ms_attributes = st.ms_attributes;
-    rec->lib_peak_bytes = st.peak_bytes;
+    rec->ms_field = st->ms_prepare + st->ms_field;
+    rec->ms_extract = st->ms_extract;
+    rec->ms_attributes = st->ms_attributes;
+    rec->lib_peak_bytes = st->peak_bytes;
 
     size_t bytes = 0;
     jmf_status ws;
@@ -327,35 +339,178 @@ static int convert_one(run *r, const job *jb)
         snprintf(err, sizeof err, "%s: cannot create its directory: %s", jb->out, strerror(errno));
         ws = JMF_E_IO;
     } else {
-        ws = jmf_write_mesh(jb->out, &mesh, &o->write, &bytes, err, sizeof err);
+        ws = jmf_write_mesh_staged(jb->out, &mesh, &o->write, &bytes, &oc->staged, err, sizeof err);
     }
     double t4 = platform_now_ms();
     rec->ms_write = t4 - t3;
     rec->ms_total = t4 - t0;
     rec->peak_rss_bytes = platform_peak_rss();
     if (ws != JMF_OK) {
-        frame_failed(r, rec, err, ws == JMF_E_NOMEM ? EXIT_RESOURCE : EXIT_SOME_FAILED);
-        return -1;
+        outcome_fail(oc, err, ws == JMF_E_NOMEM ? EXIT_RESOURCE : EXIT_SOME_FAILED);
+        return;
     }
     rec->bytes = bytes;
-    if (!o->quiet) {
+}
+
+/* Takes a frame's outcome in its turn: publishes its output (renamed into
+ * place), logs it and prints its line. 0 when it went well (or was
+ * skipped). */
+static int report(run *r, const job *jb, outcome *oc)
+{
+    convert_options *o = r->o;
+    char err[1024], b1[32], b2[32];
+    if (oc->rec.status == STATS_OK) {
+        /* the flush to disk and the rename: part of the frame's write time */
+        double t0 = platform_now_ms();
+        if (jmf_staged_publish(&oc->staged, err, sizeof err) != JMF_OK)
+            outcome_fail(oc, err, EXIT_SOME_FAILED);
+        double dt = platform_now_ms() - t0;
+        oc->rec.ms_write += dt;
+        oc->rec.ms_total += dt;
+    }
+    stats_record *rec = stats_add(&r->log, jb->in->index, jb->in->path, jb->out);
+    if (!rec) {
+        fprintf(stderr, "jetmesh: out of memory\n");
+        free(oc->rec.error);
+        r->worst = EXIT_RESOURCE;
+        r->failed++;
+        return -1;
+    }
+    char *in = rec->input, *out = rec->output;
+    *rec = oc->rec; /* the error string moves into the log */
+    rec->input = in;
+    rec->output = out;
+    oc->rec.error = NULL;
+    if (rec->status == STATS_SKIPPED) {
+        if (!o->quiet) {
+            progress_clear(&r->bar);
+            printf("frame %ld %s: skipped, %s exists (--resume)\n", rec->index, rec->input, rec->output);
+            fflush(stdout);
+        }
+        return 0;
+    }
+    if (rec->status == STATS_FAILED) {
         progress_clear(&r->bar);
-        printf("frame %ld %s: %zu particles", f->index, f->path, rec->particles);
+        fprintf(stderr, "jetmesh: frame %ld: %s\n", rec->index, rec->error);
+        fflush(stderr);
+        r->failed++;
+        if (oc->status > r->worst)
+            r->worst = oc->status;
+        return -1;
+    }
+    if (!o->quiet) {
+        const jm_stats *st = &oc->st;
+        progress_clear(&r->bar);
+        printf("frame %ld %s: %zu particles", rec->index, rec->input, rec->particles);
         if (rec->dropped)
             printf(" (%zu dropped)", rec->dropped);
         printf(", %zu vertices, %zu triangles, %.2f ms -> %s\n", rec->vertices, rec->triangles,
-               rec->ms_total, jb->out);
+               rec->ms_total, rec->output);
         if (o->verbose)
             printf("  read %.2f ms, field %.2f ms, extract %.2f ms, attributes %.2f ms, write %.2f ms; "
                    "%zu isolated, %zu blocks, %zu cells, %d threads, library peak %s, "
                    "process peak %s, %zu bytes written\n",
                    rec->ms_read, rec->ms_field, rec->ms_extract, rec->ms_attributes, rec->ms_write,
-                   st.isolated, st.blocks, st.cells, st.threads,
-                   platform_format_bytes(st.peak_bytes, b1, sizeof b1),
-                   platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), bytes);
+                   st->isolated, st->blocks, st->cells, st->threads,
+                   platform_format_bytes(st->peak_bytes, b1, sizeof b1),
+                   platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), rec->bytes);
         fflush(stdout);
     }
     return 0;
+}
+
+/* Drops an outcome that will not be reported (after a stop): its staged
+ * output is removed, so the disk holds what a one-at-a-time run leaves. */
+static void discard(outcome *oc)
+{
+    jmf_staged_abort(&oc->staged);
+    free(oc->rec.error);
+    oc->rec.error = NULL;
+}
+
+/* The frames at once: --frame-jobs, or as many as threads (at most
+ * CONVERT_MAX_FRAME_JOBS), never more than frames. */
+static int frame_jobs(const run *r)
+{
+    int threads = r->o->params.threads ? r->o->params.threads : platform_cores();
+    int w = r->o->frame_jobs ? r->o->frame_jobs : threads;
+    if (w > CONVERT_MAX_FRAME_JOBS)
+        w = CONVERT_MAX_FRAME_JOBS;
+    if ((size_t)w > r->njobs)
+        w = (int)r->njobs;
+    return w < 1 ? 1 : w;
+}
+
+static int farm_job(void *user, int w, size_t i)
+{
+    run *r = user;
+    convert_frame(r->o, r->wctx[w], &r->wread, 1, &r->jobs[i], &r->oc[i]);
+    r->oc[i].done = 1;
+    return r->oc[i].retry; /* a frame over its share stops the farm: done alone later */
+}
+
+/* Creates the per-worker contexts of W frames at once: each gets an equal
+ * share of the threads and of --max-memory. 0 if any cannot be made. */
+static int make_workers(run *r, int W)
+{
+    int threads = r->o->params.threads ? r->o->params.threads : platform_cores();
+    jm_params p = r->o->params;
+    p.threads = threads / W > 0 ? threads / W : 1;
+    if (r->o->max_memory)
+        p.max_bytes = r->o->max_memory / (size_t)W;
+    r->wread = r->o->read;
+    if (r->o->max_memory)
+        r->wread.max_bytes = r->o->max_memory / (size_t)W;
+    r->wctx = calloc((size_t)W, sizeof *r->wctx);
+    if (!r->wctx)
+        return 0;
+    r->nwctx = W;
+    for (int w = 0; w < W; w++)
+        if (jm_context_create(&p, &r->wctx[w]) != JM_OK)
+            return 0;
+    return 1;
+}
+
+/* Converts every frame: W at once on worker threads while the results are
+ * taken in frame order; from a frame over its share of --max-memory (or
+ * when no worker can start) on, one at a time with all threads. Without
+ * --keep-going it stops at the first failure, and outputs of later frames
+ * made ahead are removed: the result is the same as one at a time. */
+static void convert_all(run *r)
+{
+    size_t n = r->njobs, i = 0;
+    int W = frame_jobs(r), stopped = 0;
+    farm *fm = NULL;
+    r->oc = calloc(n, sizeof *r->oc);
+    if (!r->oc) {
+        fprintf(stderr, "jetmesh: out of memory\n");
+        r->worst = EXIT_RESOURCE;
+        return;
+    }
+    if (W > 1 && make_workers(r, W))
+        fm = farm_start(n, W, 2 * (size_t)W, farm_job, r);
+    for (; fm && i < n && !stopped; i++) {
+        if (!farm_wait(fm, i) || r->oc[i].retry)
+            break; /* this one and the rest: one at a time */
+        int ok = report(r, &r->jobs[i], &r->oc[i]) == 0;
+        farm_taken(fm, i);
+        progress_update(&r->bar, i + 1);
+        if (!ok && !r->o->keep_going)
+            stopped = 1;
+    }
+    farm_stop(fm);
+    /* the farm is stopped: any outcomes beyond i are complete, or never begun */
+    for (; i < n && !stopped; i++) {
+        outcome *oc = &r->oc[i];
+        if (!oc->done || oc->retry)
+            convert_frame(r->o, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
+        int ok = report(r, &r->jobs[i], oc) == 0;
+        progress_update(&r->bar, i + 1);
+        if (!ok && !r->o->keep_going)
+            stopped = 1;
+    }
+    for (; i < n; i++)
+        discard(&r->oc[i]);
 }
 
 static void write_reports(run *r, double wall_ms)
@@ -412,6 +567,10 @@ static void run_free(run *r)
     seq_list_free(&r->frames);
     stats_free(&r->log);
     jm_context_free(r->ctx);
+    for (int w = 0; w < r->nwctx; w++)
+        jm_context_free(r->wctx[w]);
+    free(r->wctx);
+    free(r->oc);
 }
 
 int cmd_convert(int argc, char **argv)
@@ -458,12 +617,7 @@ int cmd_convert(int argc, char **argv)
     if (o.verbose)
         print_params(&r);
     progress_init(&r.bar, r.njobs, !o.quiet);
-    for (size_t i = 0; i < r.njobs; i++) {
-        int ok = convert_one(&r, &r.jobs[i]) == 0;
-        progress_update(&r.bar, i + 1);
-        if (!ok && !o.keep_going)
-            break;
-    }
+    convert_all(&r);
     progress_finish(&r.bar);
     list_failures(&r);
     write_reports(&r, platform_now_ms() - start);

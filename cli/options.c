@@ -78,7 +78,7 @@ void options_convert_help(FILE *f)
         "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
         "      --smoothing-length L    sph kernel length h, relative to R (default 2)\n"
         "      --link-distance L       metasphere neck link distance, relative to R (default pi)\n"
-        "  -j, --threads N             worker threads per frame; 0 = all cores (default 0)\n"
+        "  -j, --threads N             worker threads; 0 = all cores (default 0)\n"
         "      --uv box|planar|spherical|none  texture coordinates (default box)\n"
         "      --uv-scale S            world units per texture repeat (default 16 R)\n"
         "      --no-normals            write no normals\n"
@@ -107,6 +107,9 @@ void options_convert_help(FILE *f)
         "      --no-sync               do not fsync each output before renaming it into\n"
         "                              place (faster; a crash of the machine may then\n"
         "                              lose recent outputs, a killed run still cannot)\n"
+        "      --frame-jobs N          frames converted at once, the threads shared among\n"
+        "                              them (output identical); 0 = auto (default: as many\n"
+        "                              as threads, at most 16), 1 = one at a time\n"
         "      --resume                skip frames whose output already exists\n"
         "      --stats FILE.csv|FILE.json  per-frame statistics and a summary\n"
         "      --stats-svg FILE.svg    stacked bar chart of time per frame by stage\n"
@@ -144,7 +147,7 @@ void options_generate_help(FILE *f)
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
-    O_FRAMES, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
+    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
 };
 
 static const struct option convert_long[] = {
@@ -177,6 +180,7 @@ static const struct option convert_long[] = {
     {"drop-invalid", no_argument, 0, O_DROP},
     {"keep-going", no_argument, 0, O_KEEP},
     {"no-sync", no_argument, 0, O_NOSYNC},
+    {"frame-jobs", required_argument, 0, O_FRAMEJOBS},
     {"resume", no_argument, 0, O_RESUME},
     {"max-memory", required_argument, 0, O_MAXMEM},
     {"quiet", no_argument, 0, 'q'},
@@ -326,6 +330,12 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_STATSSVG: o->stats_svg = optarg; break;
         case O_DROP: o->read.drop_invalid = 1; break;
         case O_NOSYNC: o->write.no_sync = 1; break;
+        case O_FRAMEJOBS:
+            if (cli_parse_long(optarg, 0, CONVERT_MAX_FRAME_JOBS, &l) != 0)
+                rc = options_usage_error(cmd, "--frame-jobs must be a whole number from 0 to %d, not '%s'",
+                                         CONVERT_MAX_FRAME_JOBS, optarg);
+            o->frame_jobs = (int)l;
+            break;
         case O_KEEP: o->keep_going = 1; break;
         case O_RESUME: o->resume = 1; break;
         case O_MAXMEM:

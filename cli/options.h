@@ -30,7 +30,12 @@ typedef struct convert_options {
     int keep_going, resume, quiet, verbose;
     int threshold_given;
     size_t max_memory;       /* bytes; 0 = no limit */
+    int frame_jobs;          /* --frame-jobs: frames at once; 0 = auto */
 } convert_options;
+
+/* The most frames converted at once (each may hold two finished outputs
+ * waiting for their turn: see convert.c). */
+#define CONVERT_MAX_FRAME_JOBS 16
 
 typedef struct generate_options {
     const char *scene;  /* "jet", "block" or "spray" */
