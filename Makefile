@@ -121,6 +121,6 @@ install: all
 	install -m 644 man/jetmesh.1 $(DESTDIR)$(PREFIX)/share/man/man1/
 
 clean:
-	rm -rf $(BUILD) build-asan build-splat1 build-splat2
+	rm -rf $(BUILD) build-asan build-tsan build-splat1 build-splat2
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

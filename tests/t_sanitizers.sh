@@ -24,4 +24,17 @@ if build-asan/jetmesh convert "$tmp/bad.csv" -r 0.025 -o "$tmp/bad.glb" -q 2>"$t
   echo "sanitizers: a ragged CSV was accepted"; status=1
 fi
 grep -q 'bad.csv:2' "$tmp/err" || { echo "sanitizers: no line number in: $(cat "$tmp/err")"; status=1; }
+# frames at once (worker contexts, outputs staged and published in order),
+# with a failure: --keep-going, then a stop that removes outputs made ahead
+mkdir "$tmp/in"
+for i in 95 96 97 98; do cp "samples/jet/jet_0$i.csv" "$tmp/in/"; done
+cp "$tmp/bad.csv" "$tmp/in/jet_096.csv"
+for kg in --keep-going ""; do
+  # shellcheck disable=SC2086 # $kg: one option or none
+  st=0
+  build-asan/jetmesh convert "$tmp/in/jet_{}.csv" -r 0.025 -o "$tmp/fj/m_{}.glb" --frame-jobs 3 -j 3 -q $kg \
+    2>"$tmp/err" || st=$?
+  [ "$st" = 1 ] || { echo "sanitizers: frames at once $kg: exit $st, not 1"; cat "$tmp/err"; status=1; }
+  grep -q 'jet_096.csv:2' "$tmp/err" || { echo "sanitizers: frames at once: $(cat "$tmp/err")"; status=1; }
+done
 exit $status
