@@ -210,6 +210,8 @@ static const char *uv_name(jm_uv_mode m)
     }
 }
 
+static int frame_jobs(const run *r);
+
 static void print_params(const run *r)
 {
     jm_params p;
@@ -222,8 +224,8 @@ static void print_params(const run *r)
         printf("smoothing length %g r, ", (double)p.smoothing_length);
     else
         printf("link distance %g r, ", (double)p.link_distance);
-    printf("threads %d, uv %s, normals %s, max memory %s; output %s%s\n",
-           p.threads ? p.threads : platform_cores(), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
+    printf("threads %d, frames at once %d, uv %s, normals %s, max memory %s; output %s%s\n",
+           p.threads ? p.threads : platform_cores(), frame_jobs(r), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
            p.max_bytes ? platform_format_bytes(p.max_bytes, mem, sizeof mem) : "no limit",
            jmf_output_format_name(r->o->write.format), r->o->write.draco ? " with Draco" : "");
     fflush(stdout);
