@@ -48,6 +48,95 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
 #define JM_CLONES
 #endif
 
+/* Both pieces are splatted in runs of 4 nodes from the start of their span
+ * (the last run shifted back to end at the row's end; n >= 9): a node past
+ * the span but in the run gets a value no greater than what it holds
+ * (beyond a ball's reach the ball is under the floor; beyond a half-neck's
+ * box the neck is under its own ball, and off its axis span it is masked),
+ * so the runs change nothing but speed. The SSE2 runs and the plain C ones
+ * do the same float operations in the same order: the same bits. */
+#define RUN 4
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1 /* 1: plain C, for the tests */
+#include <emmintrin.h>
+typedef __m128 vf;
+#define V1(x) _mm_set1_ps(x)
+#define VLD(p) _mm_loadu_ps(p)
+#define VADD _mm_add_ps
+#define VSUB _mm_sub_ps
+#define VMUL _mm_mul_ps
+#define VSQRT _mm_sqrt_ps
+#define VMAX0(x) _mm_max_ps(x, _mm_setzero_ps()) /* x > 0 ? x : 0 (NaN-free here) */
+/* row, wrow = v, id where v > row */
+static inline __attribute__((always_inline)) void keep_max(float *row, uint32_t *wrow, vf v, uint32_t id)
+{
+    vf old = _mm_loadu_ps(row), m = _mm_cmpgt_ps(v, old);
+    _mm_storeu_ps(row, _mm_or_ps(_mm_and_ps(m, v), _mm_andnot_ps(m, old)));
+    __m128i w = _mm_loadu_si128((const __m128i *)wrow), mi = _mm_castps_si128(m);
+    __m128i idv = _mm_set1_epi32((int)id);
+    _mm_storeu_si128((__m128i *)wrow, _mm_or_si128(_mm_and_si128(mi, idv), _mm_andnot_si128(mi, w)));
+}
+static inline __attribute__((always_inline)) void ball_run(float *row, uint32_t *wrow, const float *x, float qx,
+                                                           float dyz2, float inv_r, uint32_t id)
+{
+    vf dx = VSUB(VLD(x), V1(qx));
+    vf v = VSUB(V1(1.0f), VMUL(VSQRT(VADD(VMUL(dx, dx), V1(dyz2))), V1(inv_r)));
+    keep_max(row, wrow, v, id);
+}
+static inline __attribute__((always_inline)) void neck_run(float *row, uint32_t *wrow, const float *x, float qx,
+                                                           float u0, float syz, float wyz2, float half, float inv_r,
+                                                           float floor_v, uint32_t id)
+{
+    vf wx = VSUB(VLD(x), V1(qx));
+    vf s = VADD(VMUL(wx, V1(u0)), V1(syz));
+    vf q2 = VSUB(VADD(VMUL(wx, wx), V1(wyz2)), VMUL(s, s));
+    vf t = VMUL(s, V1(inv_r)), t2 = VMUL(t, t);
+    /* jm_cos_quarter, term by term */
+    vf cs = VSUB(V1(1.0f / 40320), VMUL(t2, V1(1.0f / 3628800)));
+    cs = VADD(V1(-1.0f / 720), VMUL(t2, cs));
+    cs = VADD(V1(1.0f / 24), VMUL(t2, cs));
+    cs = VADD(V1(-0.5f), VMUL(t2, cs));
+    cs = VADD(V1(1.0f), VMUL(t2, cs));
+    vf v = VSUB(cs, VMUL(VSQRT(VMAX0(q2)), V1(inv_r)));
+    vf ok = _mm_and_ps(_mm_cmpge_ps(s, _mm_setzero_ps()), _mm_cmple_ps(s, V1(half)));
+    v = _mm_or_ps(_mm_and_ps(ok, v), _mm_andnot_ps(ok, V1(floor_v)));
+    keep_max(row, wrow, v, id);
+}
+#else
+static inline void keep_max(float *row, uint32_t *wrow, const float *v, uint32_t id)
+{
+    for (int l = 0; l < RUN; l++) {
+        int m = v[l] > row[l];
+        row[l] = m ? v[l] : row[l];
+        wrow[l] = m ? id : wrow[l];
+    }
+}
+static inline void ball_run(float *row, uint32_t *wrow, const float *x, float qx, float dyz2, float inv_r, uint32_t id)
+{
+    float v[RUN];
+    for (int l = 0; l < RUN; l++) {
+        float dx = x[l] - qx;
+        v[l] = 1.0f - sqrtf(dx * dx + dyz2) * inv_r;
+    }
+    keep_max(row, wrow, v, id);
+}
+static inline void neck_run(float *row, uint32_t *wrow, const float *x, float qx, float u0, float syz, float wyz2,
+                            float half, float inv_r, float floor_v, uint32_t id)
+{
+    float v[RUN];
+    for (int l = 0; l < RUN; l++) {
+        float wx = x[l] - qx;
+        float s = wx * u0 + syz;
+        float q2 = wx * wx + wyz2 - s * s;
+        float t = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
+        v[l] = s >= 0.0f && s <= half ? t : floor_v;
+    }
+    keep_max(row, wrow, v, id);
+}
+#endif
+
 JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
                         const float *y, const float *z, int n, float *f, uint32_t *win)
 {
@@ -65,7 +154,7 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
     for (size_t k = 0; k < cells; k++) {
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
             if (g->isolated[p]) continue;
-            const float *q = GP(g, p);
+            const float *q = GP(g, p), qx = q[0];
             int i0, i1, j0, j1, k0, k1;
             /* the ball */
             node_span(x, n, inv_h, q[0] - reach, q[0] + reach, &i0, &i1);
@@ -78,13 +167,9 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
                     if (dyz2 >= reach2) continue;
                     float *row = f + ((size_t)kk * n + jj) * n;
                     uint32_t *wrow = win + ((size_t)kk * n + jj) * n;
-                    for (int ii = i0; ii < i1; ii++) {
-                        float dx = x[ii] - q[0];
-                        float v = 1.0f - sqrtf(dx * dx + dyz2) * inv_r;
-                        if (v > row[ii]) {
-                            row[ii] = v;
-                            wrow[ii] = p;
-                        }
+                    for (int s0 = i0; s0 < i1; s0 += RUN) {
+                        const int a = s0 < n - RUN ? s0 : n - RUN;
+                        ball_run(row + a, wrow + a, x + a, qx, dyz2, inv_r, p);
                     }
                 }
             }
@@ -114,16 +199,9 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
                         float *row = f + ((size_t)kk * n + jj) * n;
                         uint32_t *wrow = win + ((size_t)kk * n + jj) * n;
                         float syz = wy * u[1] + wz * u[2], wyz2 = wy * wy + wz * wz;
-                        for (int ii = i0; ii < i1; ii++) {
-                            float wx = x[ii] - q[0];
-                            float s = wx * u[0] + syz;
-                            if (s < 0.0f || s > half) continue;
-                            float q2 = wx * wx + wyz2 - s * s;
-                            float v = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
-                            if (v > row[ii]) {
-                                row[ii] = v;
-                                wrow[ii] = np + e;
-                            }
+                        for (int s0 = i0; s0 < i1; s0 += RUN) {
+                            const int a = s0 < n - RUN ? s0 : n - RUN;
+                            neck_run(row + a, wrow + a, x + a, qx, u[0], syz, wyz2, half, inv_r, floor_v, np + e);
                         }
                     }
                 }
