@@ -301,9 +301,12 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                     out->failed = 1;
                     goto done;
                 }
-                const uint8_t *te = tab->edges[cfg_here];
-                for (int t = 0; t < 3 * nt; t++) {
-                    int e = te[t];
+                /* each distinct edge's vertex once, then the triangles */
+                const uint8_t *ue = tab->uedge[cfg_here], *lt = tab->local[cfg_here];
+                const int ne = tab->nedge[cfg_here];
+                uint32_t refs[19];
+                for (int q = 0; q < ne; q++) {
+                    int e = ue[q];
                     int corner = jm_cube_edge_corner[e], dir = jm_cube_edge_dir[e];
                     size_t na = nd + corner_off[corner];
                     size_t slot = na * 7 + (size_t)dir;
@@ -368,8 +371,11 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                         s->vt[slot] = ref;
                         s->touched[s->ntouched++] = (uint32_t)slot;
                     }
-                    out->tri[out->ni++] = ref;
+                    refs[q] = ref;
                 }
+                uint32_t *tri = out->tri + out->ni;
+                for (int t = 0; t < 3 * nt; t++) tri[t] = refs[lt[t]];
+                out->ni += 3 * (size_t)nt;
             }
         }
 done:

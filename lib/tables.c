@@ -192,12 +192,31 @@ static void build_mc(void)
     }
 }
 
+/* the distinct edges of each configuration, in order of first use */
+static void index_edges(jm_case_table *t)
+{
+    for (int cfg = 0; cfg < 256; cfg++) {
+        int slot[19];
+        for (int e = 0; e < 19; e++) slot[e] = -1;
+        for (int k = 0; k < 3 * t->ntri[cfg]; k++) {
+            int e = t->edges[cfg][k];
+            if (slot[e] < 0) {
+                slot[e] = t->nedge[cfg]++;
+                t->uedge[cfg][slot[e]] = (uint8_t)e;
+            }
+            t->local[cfg][k] = (uint8_t)slot[e];
+        }
+    }
+}
+
 static void build(void)
 {
     memset(&mc_table, 0, sizeof mc_table);
     memset(&mt_table, 0, sizeof mt_table);
     build_mt();
     build_mc();
+    index_edges(&mt_table);
+    index_edges(&mc_table);
 }
 
 const jm_case_table *jm_table_mc(void) { pthread_once(&once, build); return &mc_table; }

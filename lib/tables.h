@@ -15,6 +15,11 @@ extern const uint8_t jm_cube_edge_dir[19];
 typedef struct jm_case_table {
     uint8_t ntri[256];
     uint8_t edges[256][36]; /* 3 cube-edge indices per triangle, CCW from outside */
+    /* the same triangles over the configuration's distinct edges, in order
+     * of first use: nedge of them in uedge, the corners as indices into it */
+    uint8_t nedge[256];
+    uint8_t uedge[256][19];
+    uint8_t local[256][36];
 } jm_case_table;
 
 /* Tables for cube configurations (bit c set = corner c inside). */
