@@ -65,42 +65,58 @@ group block_1m --scene block:1000000 $SPH --method mc -j 1,2 --min-time 0 --repe
 group spray --scene spray:10000 --field metasphere,sph --method mt -j 1,2 --templates both
 
 # --- a 100-frame jet sequence to GLB vs. 100 process starts ---------------------
+# Five rounds, each running every variant once in turn (the machine's load
+# drifts; alternating keeps the comparison fair); medians are reported.
 now_ns() { date +%s%N; }
 T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-bench.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 seq_cmd="$J convert 'samples/jet/jet_{}.csv' -r 0.025 -o \"\$TMP/jet_{}.glb\" -q"
 starts_cmd="for i in \$(seq 100); do $J --version >/dev/null; done"
 echo "$seq_cmd" >>"$OUT/commands.sh"
+echo "$seq_cmd --frame-jobs 1" >>"$OUT/commands.sh"
+echo "$seq_cmd --no-sync" >>"$OUT/commands.sh"
 echo "$starts_cmd" >>"$OUT/commands.sh"
-echo "== sequence: $seq_cmd"
-seq_ok=false seq_s=null starts_s=null seq_files=0
-if [ -f samples/jet/jet_000.csv ]; then
-  t0=$(now_ns)
-  if "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$T/jet_{}.glb" -q >"$OUT/sequence.log" 2>&1; then
-    t1=$(now_ns)
-    seq_files=$(find "$T" -name 'jet_*.glb' | wc -l)
-    [ "$seq_files" -eq 100 ] && seq_ok=true
-    seq_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
-  else
-    echo "bench.sh: convert failed (see $OUT/sequence.log)" >&2
-  fi
-fi
-# the same with --no-sync (no flush to disk before each rename)
-nosync_s=null
-if [ -f samples/jet/jet_000.csv ]; then
+echo "== sequence: $seq_cmd (default, --frame-jobs 1, --no-sync; 5 rounds)"
+ROUNDS=${JETMESH_BENCH_ROUNDS:-5}
+[ -n "$QUICK" ] && ROUNDS=1
+seq_ok=false seq_files=0
+: >"$OUT/sequence.log"
+: >"$OUT/sequence.times"
+convert_s() { # extra options...: the wall seconds of one conversion, or "fail"
   rm -rf "$T"/jet_*.glb
   t0=$(now_ns)
-  if "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$T/jet_{}.glb" -q --no-sync >>"$OUT/sequence.log" 2>&1; then
+  if "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$T/jet_{}.glb" -q "$@" >>"$OUT/sequence.log" 2>&1; then
     t1=$(now_ns)
-    nosync_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
+    awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }'
+  else
+    echo fail
   fi
+}
+if [ -f samples/jet/jet_000.csv ]; then
+  r=0
+  while [ $r -lt "$ROUNDS" ]; do
+    echo "default $(convert_s)" >>"$OUT/sequence.times"
+    [ $r = 0 ] && seq_files=$(find "$T" -name 'jet_*.glb' | wc -l)
+    echo "one_at_a_time $(convert_s --frame-jobs 1)" >>"$OUT/sequence.times"
+    echo "no_sync $(convert_s --no-sync)" >>"$OUT/sequence.times"
+    t0=$(now_ns)
+    i=0
+    while [ $i -lt 100 ]; do "$J" --version >/dev/null; i=$((i + 1)); done
+    t1=$(now_ns)
+    echo "starts $(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')" >>"$OUT/sequence.times"
+    r=$((r + 1))
+  done
+  [ "$seq_files" -eq 100 ] && ! grep -q ' fail$' "$OUT/sequence.times" && seq_ok=true
+  $seq_ok || echo "bench.sh: a sequence conversion failed (see $OUT/sequence.log)" >&2
 fi
-t0=$(now_ns)
-i=0
-while [ $i -lt 100 ]; do "$J" --version >/dev/null; i=$((i + 1)); done
-t1=$(now_ns)
-starts_s=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }')
-echo "sequence: $seq_s s ($seq_files GLB files, ok=$seq_ok), --no-sync $nosync_s s; 100 process starts: $starts_s s"
+median_of() { # name: the median seconds of that variant, or null
+  v=$(awk -v k="$1" '$1 == k && $2 != "fail" { print $2 }' "$OUT/sequence.times" | sort -n |
+    awk '{ a[NR] = $1 } END { if (NR) printf "%.3f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }')
+  echo "${v:-null}"
+}
+seq_s=$(median_of default) one_s=$(median_of one_at_a_time) nosync_s=$(median_of no_sync) starts_s=$(median_of starts)
+echo "sequence (median of $ROUNDS): $seq_s s ($seq_files GLB files, ok=$seq_ok), one at a time $one_s s," \
+  "--no-sync $nosync_s s; 100 process starts: $starts_s s"
 
 # --- build/bench.json -------------------------------------------------------------
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
@@ -123,8 +139,9 @@ jstr() { printf '"%s"' "$(printf '%s' "$1" | sed 's/\\/\\\\/g; s/"/\\"/g')"; }
     if [ -s "$OUT/$name.json" ]; then cat "$OUT/$name.json"; else printf 'null'; fi
     printf '}'
   done <"$OUT/exit"
-  printf '\n  ],\n  "sequence": {"frames": 100, "glb_files": %s, "ok": %s, "convert_s": %s, "no_sync_s": %s, ' \
-    "$seq_files" "$seq_ok" "$seq_s" "$nosync_s"
+  printf '\n  ],\n  "sequence": {"frames": 100, "rounds": %s, "glb_files": %s, "ok": %s, "convert_s": %s, ' \
+    "$ROUNDS" "$seq_files" "$seq_ok" "$seq_s"
+  printf '"one_at_a_time_s": %s, "no_sync_s": %s, ' "$one_s" "$nosync_s"
   printf '"process_starts": 100, "starts_s": %s,\n    "convert_command": %s, "starts_command": %s}\n}\n' \
     "$starts_s" "$(jstr "$seq_cmd")" "$(jstr "$starts_cmd")"
 } >"$BUILD/bench.json"
@@ -208,6 +225,10 @@ const sp1 = find("spray", "spray:10000", "metasphere", "mt", 1), sps = find("spr
 row("spray 10k: template path ≥ 3× general path (metasphere mt, 1 thread)",
     sp1 && sp1.template_speedup ? `${f(sp1.template_speedup, 1)}× (sph: ${sps && sps.template_speedup ? f(sps.template_speedup, 1) + "×" : "–"})` : "–",
     sp1 && sp1.template_speedup ? sp1.template_speedup >= 3 : null);
+const SQ = B.sequence;
+row("100-frame jet sequence to GLB faster than 100 process starts (medians)",
+    SQ.convert_s != null && SQ.starts_s != null ? `${f(SQ.convert_s)} s against ${f(SQ.starts_s)} s (${f(SQ.starts_s / SQ.convert_s, 2)}×)` : "–",
+    SQ.convert_s != null && SQ.starts_s != null && SQ.ok ? SQ.convert_s < SQ.starts_s : null);
 const w2 = b1m2 && b1m2.write ? b1m2.write.fraction_of_total : null, w1 = b1m1 && b1m1.write ? b1m1.write.fraction_of_total : null;
 row("GLB write of the 1M mesh ≤ 15 % of total (write / (mesh + write), 2 threads)",
     w2 != null ? `${f(100 * w2, 1)} % (${ms(b1m2.ms.write.median)} ms for ${mb(b1m2.write.bytes)} MB; 1 thread: ${w1 != null ? f(100 * w1, 1) : "–"} %)` : "–",
@@ -267,13 +288,16 @@ for (const g of B.groups) {
 const S = B.sequence;
 p("## A 100-frame jet sequence to GLB vs. 100 process starts");
 p();
-p("| what | wall s |");
+p(`Medians of ${S.rounds} rounds; each round runs every line once, in this order.`);
+p();
+p("| what | wall s (median) |");
 p("|---|--:|");
-p(`| \`jetmesh convert\` of samples/jet (100 frames → GLB, default threads) | ${S.convert_s == null ? "failed or no samples" : f(S.convert_s) + (S.ok ? "" : " (not 100 files)")} |`);
+p(`| \`jetmesh convert\` of samples/jet (100 frames → GLB; default: all threads, frames at once) | ${S.convert_s == null ? "failed or no samples" : f(S.convert_s) + (S.ok ? "" : " (not 100 files)")} |`);
+p(`| the same with \`--frame-jobs 1\` (one frame at a time, all threads on it) | ${S.one_at_a_time_s == null ? "-" : f(S.one_at_a_time_s)} |`);
 p(`| the same with \`--no-sync\` (no flush to disk before each rename) | ${S.no_sync_s == null ? "-" : f(S.no_sync_s)} |`);
 p(`| 100 × \`jetmesh --version\` (process start and exit) | ${f(S.starts_s)} |`);
 p();
-p("```sh\n" + S.convert_command + "\n" + S.starts_command + "\n```");
+p("```sh\n" + S.convert_command + "\n" + S.convert_command + " --frame-jobs 1\n" + S.convert_command + " --no-sync\n" + S.starts_command + "\n```");
 p();
 p("## Commands");
 p();
