@@ -34,7 +34,9 @@ typedef struct jm_scratch {
     size_t ntouched;
     float *x, *y, *z;         /* node coordinates */
     jm_hood hood;
-    jm_soa soa;               /* sph: particles near the block, for normals */
+    jm_soa soa;               /* sph: particles near a part of the block, for normals */
+    uint32_t *order;          /* sph: vertices sorted by part of the block */
+    size_t cap_order;
 } jm_scratch;
 
 typedef struct jm_block_set {
