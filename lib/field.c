@@ -151,10 +151,15 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
         win[i] = UINT32_MAX;
     }
     size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    const float inf = c->influence, bx0 = x[0] - inf, bx1 = x[n - 1] + inf, by0 = y[0] - inf, by1 = y[n - 1] + inf;
+    const float bz0 = z[0] - inf, bz1 = z[n - 1] + inf;
     for (size_t k = 0; k < cells; k++) {
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
-            if (g->isolated[p]) continue;
             const float *q = GP(g, p), qx = q[0];
+            /* the hood's cells reach past the influence radius: skip what
+             * cannot touch the block (nothing of a particle reaches further) */
+            if (qx < bx0 || qx > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue;
+            if (g->isolated[p]) continue;
             int i0, i1, j0, j1, k0, k1;
             /* the ball */
             node_span(x, n, inv_h, q[0] - reach, q[0] + reach, &i0, &i1);
