@@ -490,7 +490,9 @@ static void convert_all(run *r)
         return;
     }
     if (W > 1 && make_workers(r, W))
-        fm = farm_start(n, W, 2 * (size_t)W, farm_job, r);
+        /* up to window + 1 frames past the last one reported, each with up to
+         * two staged files: within the 64 temporaries a signal cleans up */
+        fm = farm_start(n, W, 2 * W < 31 ? 2 * (size_t)W : 31, farm_job, r);
     for (; fm && i < n && !stopped; i++) {
         if (!farm_wait(fm, i) || r->oc[i].retry)
             break; /* this one and the rest: one at a time */
