@@ -16,6 +16,7 @@
 #include "progress.h"
 #include "sequence.h"
 #include "signals.h"
+#include "stale.h"
 #include "stats.h"
 
 /* One frame to convert. */
@@ -620,6 +621,18 @@ int cmd_convert(int argc, char **argv)
     signals_install_cleanup();
     if (o.verbose)
         print_params(&r);
+    {
+        /* what a killed run left beside these outputs */
+        char **outs = malloc(r.njobs * sizeof *outs);
+        size_t gone = 0;
+        for (size_t i = 0; outs && i < r.njobs; i++)
+            outs[i] = r.jobs[i].out;
+        if (outs)
+            gone = stale_remove(outs, r.njobs);
+        free(outs);
+        if (gone && !o.quiet)
+            printf("removed %zu temporar%s left by an interrupted run\n", gone, gone == 1 ? "y" : "ies");
+    }
     progress_init(&r.bar, r.njobs, !o.quiet);
     convert_all(&r);
     progress_finish(&r.bar);

@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_cli_kill.sh - SIGTERM/SIGHUP/SIGKILL mid-run never leave a truncated output or a leftover taken for a complete mesh.
+# t_cli_kill.sh - SIGTERM/SIGHUP/SIGKILL mid-run never leave a truncated output; a killed run's leftovers go at the next run.
 # shellcheck source=tests/lib.sh
 . "$(dirname "$0")/lib.sh"
 T=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-kill.XXXXXX") || exit 1
@@ -99,8 +99,11 @@ if await_temp; then
         for f in $(temps "$T"); do
             case "$f" in .big.obj.jetmesh-tmp-*) ;; *) fail "unexpected leftover $f" ;; esac
         done
-        rm -f "$T"/.big.obj.jetmesh-tmp-*
-        echo "ok: SIGKILL while writing: previous output intact, leftover is a hidden temporary"
+        # the next run writing big.obj removes what the dead process left
+        "$J" convert "$S/jet_099.csv" -r 0.025 -o "$T/big.obj" >"$T/out" 2>"$T/err" || fail "convert after SIGKILL"
+        [ -z "$(temps "$T")" ] || fail "the leftover of the killed run is still there: $(temps "$T")"
+        grep -q 'removed 1 temporary left by an interrupted run' "$T/out" || fail "no note of the removed temporary"
+        echo "ok: SIGKILL while writing: previous output intact, leftover hidden, removed by the next run"
     else
         check_complete
     fi
@@ -130,6 +133,7 @@ done
 "$J" convert "$S/jet_{}.csv" --frames 60:99 -r 0.025 -o "$T/seq/" --format ply --resume >"$T/out" 2>"$T/err" ||
     { cat "$T/err"; fail "--resume after SIGKILL"; }
 [ "$(grep -c 'skipped' "$T/out")" -ge "$n" ] || fail "--resume did not skip the $n complete outputs"
+[ -z "$(temps "$T/seq")" ] || fail "--resume left the killed run's temporaries: $(temps "$T/seq")"
 [ "$(ls "$T/seq" | wc -l)" = 40 ] || fail "expected 40 outputs after --resume"
 for f in $(ls "$T/ref"); do
     cmp -s "$T/seq/$f" "$T/ref/$f" || fail "$f differs from the uninterrupted run"
@@ -153,4 +157,19 @@ pid=""
 [ -z "$(temps "$T/seq")" ] || fail "SIGTERM left a temporary: $(temps "$T/seq")"
 for f in $(ls "$T/seq"); do cmp -s "$T/seq/$f" "$T/ref/$f" || fail "incomplete $f after SIGTERM"; done
 echo "ok: SIGTERM mid-sequence (exit $st): $(ls "$T/seq" | wc -l) complete outputs, no temporary"
+# 6. only leftovers of dead processes beside this run's outputs are removed:
+#    not a live process's (this shell's), not another file's
+mkdir "$T/left"
+sh -c 'exit 0' &
+dead=$!
+wait "$dead"
+touch "$T/left/.m.glb.jetmesh-tmp-$dead" "$T/left/.m.glb.jetmesh-tmp-$$" "$T/left/.other.glb.jetmesh-tmp-$dead"
+touch "$T/left/.n.bin.jetmesh-tmp-$dead"
+"$J" convert "$S/jet_099.csv" -r 0.025 -q -o "$T/left/m.glb" || fail "convert beside leftovers"
+"$J" convert "$S/jet_099.csv" -r 0.025 -q -o "$T/left/n.gltf" || fail "convert beside leftovers"
+[ ! -e "$T/left/.m.glb.jetmesh-tmp-$dead" ] || fail "a dead run's temporary of m.glb was kept"
+[ ! -e "$T/left/.n.bin.jetmesh-tmp-$dead" ] || fail "a dead run's temporary of the .bin of n.gltf was kept"
+[ -e "$T/left/.m.glb.jetmesh-tmp-$$" ] || fail "a live process's temporary was removed"
+[ -e "$T/left/.other.glb.jetmesh-tmp-$dead" ] || fail "the temporary of another output was removed"
+echo "ok: leftovers of dead runs beside the outputs removed, others kept"
 echo "all kill checks passed"

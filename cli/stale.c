@@ -1,0 +1,111 @@
+/* stale.c - removes the hidden temporaries that killed runs left beside this run's outputs. */
+#include "stale.h"
+
+#include <ctype.h>
+#include <dirent.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#define TAG ".jetmesh-tmp-"
+
+static int cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* length of the directory part of path, with its '/' (0: none) */
+static size_t dir_len(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? (size_t)(s - path) + 1 : 0;
+}
+
+static char *join(const char *dir, size_t dlen, const char *name, size_t nlen)
+{
+    char *p = malloc(dlen + nlen + 1);
+    if (!p) return NULL;
+    memcpy(p, dir, dlen);
+    memcpy(p + dlen, name, nlen);
+    p[dlen + nlen] = '\0';
+    return p;
+}
+
+/* 1 if pid names no process here (a live one, ours or another user's, keeps its files) */
+static int dead(long pid)
+{
+    if (pid <= 0 || pid == (long)getpid()) return 0;
+    return kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
+/* scans directory dirpath (its first dlen bytes, "" for the current one)
+ * for temporaries of the sorted names */
+static size_t scan(char *const *names, size_t count, const char *dirpath, size_t dlen)
+{
+    char *dir = dlen ? join(dirpath, dlen, "", 0) : strdup(".");
+    DIR *d = dir ? opendir(dir) : NULL;
+    size_t removed = 0;
+    if (!d) {
+        free(dir);
+        return 0;
+    }
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        const char *nm = e->d_name, *tag = strstr(nm, TAG);
+        if (nm[0] != '.' || !tag || tag == nm + 1) continue;
+        const char *digits = tag + strlen(TAG);
+        if (!*digits || strlen(digits) > 9) continue;
+        int ok = 1;
+        for (const char *c = digits; *c; c++) ok &= isdigit((unsigned char)*c) != 0;
+        if (!ok || !dead(strtol(digits, NULL, 10))) continue;
+        char *final = join(dirpath, dlen, nm + 1, (size_t)(tag - nm - 1));
+        if (!final) break;
+        if (bsearch(&final, names, count, sizeof *names, cmp_str)) {
+            char *tmp = join(dirpath, dlen, nm, strlen(nm));
+            if (tmp && unlink(tmp) == 0) removed++;
+            free(tmp);
+        }
+        free(final);
+    }
+    closedir(d);
+    free(dir);
+    return removed;
+}
+
+size_t stale_remove(char *const *outputs, size_t n)
+{
+    /* names: the outputs and the .bin beside each .gltf (bins: those made
+     * here), sorted; dirs: their distinct directories */
+    char **names = malloc(2 * n * sizeof *names), **bins = malloc(n * sizeof *bins);
+    char **dirs = malloc(2 * n * sizeof *dirs);
+    size_t m = 0, nbins = 0, ndirs = 0, removed = 0;
+    if (!names || !bins || !dirs) goto out;
+    for (size_t i = 0; i < n; i++) {
+        names[m++] = outputs[i];
+        size_t len = strlen(outputs[i]);
+        if (len > 5 && strcmp(outputs[i] + len - 5, ".gltf") == 0) {
+            char *bin = join(outputs[i], len - 5, ".bin", 4);
+            if (!bin) goto out;
+            names[m++] = bins[nbins++] = bin;
+        }
+    }
+    qsort(names, m, sizeof *names, cmp_str);
+    for (size_t i = 0; i < m; i++) {
+        char *d = join(names[i], dir_len(names[i]), "", 0);
+        if (!d) goto out;
+        dirs[ndirs++] = d;
+    }
+    qsort(dirs, ndirs, sizeof *dirs, cmp_str);
+    for (size_t i = 0; i < ndirs; i++)
+        if (i == 0 || strcmp(dirs[i], dirs[i - 1]) != 0) removed += scan(names, m, dirs[i], strlen(dirs[i]));
+out:
+    for (size_t i = 0; i < ndirs; i++) free(dirs[i]);
+    for (size_t i = 0; i < nbins; i++) free(bins[i]);
+    free(dirs);
+    free(bins);
+    free(names);
+    return removed;
+}
