@@ -362,6 +362,16 @@ static int report(run *r, const job *jb, outcome *oc)
 {
     convert_options *o = r->o;
     char err[1024], b1[32], b2[32];
+    stats_record *rec = stats_add(&r->log, jb->in->index, jb->in->path, jb->out);
+    if (!rec) {
+        fprintf(stderr, "jetmesh: out of memory\n");
+        jmf_staged_abort(&oc->staged);
+        free(oc->rec.error);
+        oc->rec.error = NULL;
+        r->worst = EXIT_RESOURCE;
+        r->failed++;
+        return -1;
+    }
     if (oc->rec.status == STATS_OK) {
         /* the flush to disk and the rename: part of the frame's write time */
         double t0 = platform_now_ms();
@@ -370,14 +380,6 @@ static int report(run *r, const job *jb, outcome *oc)
         double dt = platform_now_ms() - t0;
         oc->rec.ms_write += dt;
         oc->rec.ms_total += dt;
-    }
-    stats_record *rec = stats_add(&r->log, jb->in->index, jb->in->path, jb->out);
-    if (!rec) {
-        fprintf(stderr, "jetmesh: out of memory\n");
-        free(oc->rec.error);
-        r->worst = EXIT_RESOURCE;
-        r->failed++;
-        return -1;
     }
     char *in = rec->input, *out = rec->output;
     *rec = oc->rec; /* the error string moves into the log */
