@@ -1,7 +1,8 @@
 /* stale.c - removes the hidden temporaries that killed runs left beside this run's outputs. */
 #include "stale.h"
 
-#include <ctype.h>
+#include "../formats/atomic_file.h"
+
 #include <dirent.h>
 #include <errno.h>
 #include <signal.h>
@@ -9,8 +10,6 @@
 #include <string.h>
 #include <sys/types.h>
 #include <unistd.h>
-
-#define TAG ".jetmesh-tmp-"
 
 static int cmp_str(const void *a, const void *b)
 {
@@ -54,14 +53,11 @@ static size_t scan(char *const *names, size_t count, const char *dirpath, size_t
     }
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
-        const char *nm = e->d_name, *tag = strstr(nm, TAG);
-        if (nm[0] != '.' || !tag || tag == nm + 1) continue;
-        const char *digits = tag + strlen(TAG);
-        if (!*digits || strlen(digits) > 9) continue;
-        int ok = 1;
-        for (const char *c = digits; *c; c++) ok &= isdigit((unsigned char)*c) != 0;
-        if (!ok || !dead(strtol(digits, NULL, 10))) continue;
-        char *final = join(dirpath, dlen, nm + 1, (size_t)(tag - nm - 1));
+        const char *nm = e->d_name;
+        size_t len;
+        long pid;
+        if (!jmf_atomic_temp_parse(nm, &len, &pid) || !dead(pid)) continue;
+        char *final = join(dirpath, dlen, nm + 1, len);
         if (!final) break;
         if (bsearch(&final, names, count, sizeof *names, cmp_str)) {
             char *tmp = join(dirpath, dlen, nm, strlen(nm));

@@ -87,6 +87,20 @@ static char *dup_str(const char *s)
     return d;
 }
 
+#define TEMP_TAG ".jetmesh-tmp-"
+
+int jmf_atomic_temp_parse(const char *name, size_t *out_len, long *out_pid)
+{
+    const char *tag = name && name[0] == '.' ? strstr(name + 1, TEMP_TAG) : NULL;
+    if (!tag || tag == name + 1) return 0;
+    const char *d = tag + strlen(TEMP_TAG);
+    size_t nd = strlen(d);
+    if (nd == 0 || nd > 9 || strspn(d, "0123456789") != nd) return 0;
+    *out_len = (size_t)(tag - name - 1);
+    *out_pid = strtol(d, NULL, 10);
+    return 1;
+}
+
 /* "DIR/NAME" -> "DIR/.NAME.jetmesh-tmp-PID"; NULL on allocation failure. */
 static char *temp_name_for(const char *path)
 {
@@ -95,11 +109,11 @@ static char *temp_name_for(const char *path)
     const char *name = path + dirlen;
     char pid[32];
     int pn = snprintf(pid, sizeof pid, "%ld", (long)getpid());
-    size_t len = dirlen + 1 + strlen(name) + strlen(".jetmesh-tmp-") + (size_t)pn + 1;
+    size_t len = dirlen + 1 + strlen(name) + strlen(TEMP_TAG) + (size_t)pn + 1;
     char *t = malloc(len);
     if (!t) return NULL;
     memcpy(t, path, dirlen);
-    snprintf(t + dirlen, len - dirlen, ".%s.jetmesh-tmp-%s", name, pid);
+    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", name, pid);
     return t;
 }
 

@@ -53,6 +53,11 @@ jmf_status jmf_atomic_write(jmf_atomic_file *af, const void *data, size_t n,
 /** Closes and removes the temporary; the final path is untouched. */
 void jmf_atomic_abort(jmf_atomic_file *af);
 
+/** 1 if name (a directory entry) is a temporary of this writer,
+ *  ".NAME.jetmesh-tmp-PID": then NAME is the *out_len bytes at name + 1 and
+ *  *out_pid the process that wrote it. 0 otherwise. */
+int jmf_atomic_temp_parse(const char *name, size_t *out_len, long *out_pid);
+
 /** Async-signal-safe: unlinks every temporary still open in this process.
  *  For SIGINT/SIGTERM handlers, before _exit(). */
 void jmf_atomic_remove_pending(void);

@@ -780,6 +780,18 @@ static void test_atomic_commit_and_names(void **state)
     char want[600];
     snprintf(want, sizeof want, "%s/.a.txt.jetmesh-tmp-%ld", g_dir, (long)getpid());
     assert_string_equal(af.temp_path, want);
+    /* the name parses back to the output's name and this process */
+    size_t len = 0;
+    long pid = 0;
+    const char *base = strrchr(af.temp_path, '/') + 1;
+    assert_int_equal(jmf_atomic_temp_parse(base, &len, &pid), 1);
+    assert_int_equal(len, strlen("a.txt"));
+    assert_memory_equal(base + 1, "a.txt", len);
+    assert_int_equal(pid, (long)getpid());
+    static const char *const not_temps[] = {"a.txt", ".a.txt", ".jetmesh-tmp-12", ".a.jetmesh-tmp-",
+                                            ".a.jetmesh-tmp-12x", "a.jetmesh-tmp-12", ".a.jetmesh-tmp-1234567890"};
+    for (size_t i = 0; i < sizeof not_temps / sizeof *not_temps; i++)
+        assert_int_equal(jmf_atomic_temp_parse(not_temps[i], &len, &pid), 0);
     assert_true(file_size(want) == 0);
     assert_int_equal(file_size(path), -1); /* nothing at the target yet */
     assert_int_equal(jmf_atomic_write(&af, "hello\n", 6, err, sizeof err), JMF_OK);
