@@ -435,10 +435,14 @@ static void discard(outcome *oc)
 
 /* The frames at once: --frame-jobs, or as many as threads (at most
  * CONVERT_MAX_FRAME_JOBS), never more than frames. */
+static int total_threads(const run *r)
+{
+    return r->o->params.threads ? r->o->params.threads : platform_cores();
+}
+
 static int frame_jobs(const run *r)
 {
-    int threads = r->o->params.threads ? r->o->params.threads : platform_cores();
-    int w = r->o->frame_jobs ? r->o->frame_jobs : threads;
+    int w = r->o->frame_jobs ? r->o->frame_jobs : total_threads(r);
     if (w > CONVERT_MAX_FRAME_JOBS)
         w = CONVERT_MAX_FRAME_JOBS;
     if ((size_t)w > r->njobs)
@@ -458,7 +462,7 @@ static int farm_job(void *user, int w, size_t i)
  * share of the threads and of --max-memory. 0 if any cannot be made. */
 static int make_workers(run *r, int W)
 {
-    int threads = r->o->params.threads ? r->o->params.threads : platform_cores();
+    int threads = total_threads(r);
     jm_params p = r->o->params;
     p.threads = threads / W > 0 ? threads / W : 1;
     if (r->o->max_memory)
@@ -496,26 +500,24 @@ static void convert_all(run *r)
         /* up to window + 1 frames past the last one reported, each with up to
          * two staged files: within the 64 temporaries a signal cleans up */
         fm = farm_start(n, W, 2 * W < 31 ? 2 * (size_t)W : 31, farm_job, r);
-    for (; fm && i < n && !stopped; i++) {
-        if (!farm_wait(fm, i) || r->oc[i].retry)
-            break; /* this one and the rest: one at a time */
-        int ok = report(r, &r->jobs[i], &r->oc[i]) == 0;
-        farm_taken(fm, i);
+    for (; i < n && !stopped; i++) {
+        outcome *oc = &r->oc[i];
+        if (fm && (!farm_wait(fm, i) || oc->retry)) {
+            /* this frame and the rest one at a time: any outcomes beyond it
+             * are complete once the farm has stopped, or never begun */
+            farm_stop(fm);
+            fm = NULL;
+        }
+        if (!oc->done || oc->retry)
+            convert_frame(r->o, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
+        int ok = report(r, &r->jobs[i], oc) == 0;
+        if (fm)
+            farm_taken(fm, i);
         progress_update(&r->bar, i + 1);
         if (!ok && !r->o->keep_going)
             stopped = 1;
     }
     farm_stop(fm);
-    /* the farm is stopped: any outcomes beyond i are complete, or never begun */
-    for (; i < n && !stopped; i++) {
-        outcome *oc = &r->oc[i];
-        if (!oc->done || oc->retry)
-            convert_frame(r->o, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
-        int ok = report(r, &r->jobs[i], oc) == 0;
-        progress_update(&r->bar, i + 1);
-        if (!ok && !r->o->keep_going)
-            stopped = 1;
-    }
     for (; i < n; i++)
         discard(&r->oc[i]);
 }
