@@ -240,14 +240,8 @@ jmf_status jmf_atomic_write(jmf_atomic_file *af, const void *data, size_t n,
 /* fails af: message, temporary removed, af released */
 static jmf_status fail_file(jmf_atomic_file *af, const char *what, int e, char *err, size_t errlen)
 {
-    if (af->fp) fclose(af->fp);
-    af->fp = NULL;
     set_err(err, errlen, "%s: %s: %s", af->final_path, what, strerror(e ? e : EIO));
-    if (af->temp_path) {
-        unlink(af->temp_path);
-        pending_remove(af->temp_path);
-    }
-    release(af);
+    jmf_atomic_abort(af);
     return JMF_E_IO;
 }
 
