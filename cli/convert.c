@@ -497,8 +497,8 @@ static void convert_all(run *r)
         return;
     }
     if (W > 1 && make_workers(r, W))
-        /* up to window + 1 frames past the last one reported, each with up to
-         * two staged files: within the 64 temporaries a signal cleans up */
+        /* up to window + 1 frames past the last one reported, each holding
+         * its staged output (memory and open files) until its turn */
         fm = farm_start(n, W, 2 * W < 31 ? 2 * (size_t)W : 31, farm_job, r);
     for (; i < n && !stopped; i++) {
         outcome *oc = &r->oc[i];
@@ -590,6 +590,7 @@ int cmd_convert(int argc, char **argv)
         return EXIT_ALL_OK;
     if (rc != OPTIONS_RUN)
         return EXIT_USAGE;
+    signals_install_cleanup(); /* first: before any thread starts (signals.c) */
     if (o.threshold_given && o.params.threshold == 0.0f && o.params.field == JM_FIELD_SPH)
         fprintf(stderr, "jetmesh convert: warning: --threshold 0 means the default of the field "
                         "(0.6 for sph)\n");
@@ -622,7 +623,6 @@ int cmd_convert(int argc, char **argv)
         }
         goto done;
     }
-    signals_install_cleanup();
     if (o.verbose)
         print_params(&r);
     {

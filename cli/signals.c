@@ -1,30 +1,107 @@
-/* signals.c - on SIGINT/SIGTERM/SIGHUP unlinks the atomic writers' temporaries and re-raises the signal. */
+/* signals.c - SIGINT/SIGTERM/SIGHUP/SIGPIPE taken by one thread with sigwait: temporaries removed, then death by the signal. */
 #include "signals.h"
 
+#include <pthread.h>
 #include <signal.h>
 #include <string.h>
 #include <unistd.h>
 
 #include "../formats/atomic_file.h"
 
-static void on_signal(int sig)
+/*
+ * Design. A handler that unlinks temporaries races with the threads that
+ * create them: with several frames converted at once, a worker could create
+ * a temporary after the handler's sweep and before the process died, and
+ * that file was left behind. So no handler does the work here:
+ *
+ *  1. signals_install_cleanup() blocks SIGINT, SIGTERM, SIGHUP and SIGPIPE
+ *     in the calling thread before any other thread exists; every thread
+ *     started later (the frame workers, the library's pool) inherits the
+ *     mask, so no thread is ever interrupted by them.
+ *  2. One thread waits for them with sigwait(). When one arrives it calls
+ *     jmf_atomic_shutdown(): under the lock that makes "create a temporary
+ *     and register it" one step (formats/atomic_file.c), and "rename a
+ *     finished output into place" another, it closes the writer for good
+ *     and unlinks every registered temporary. A worker still meshing or
+ *     writing cannot create or rename anything afterwards (its open or
+ *     publish fails), so whatever the workers were doing, nothing is left.
+ *  3. It then restores the default action, unblocks the signal in its own
+ *     thread and raises it: the process dies by that signal (status 128+N
+ *     in the shell), all threads with it.
+ *
+ * SIGPIPE is thread-directed: it goes to the thread whose write failed,
+ * where a sigwait in another thread would never see it. So it is unblocked
+ * again in the threads that write (every thread but the waiter) and its
+ * handler forwards it to the waiter with pthread_kill (async-signal-safe).
+ *
+ * A signal that was ignored when jetmesh started (nohup, a background job
+ * of a non-interactive shell) stays ignored.
+ */
+
+static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
+static sigset_t g_set;
+static pthread_t g_waiter;
+
+static void *waiter(void *arg)
 {
-    jmf_atomic_remove_pending(); /* async-signal-safe */
-    raise(sig);       /* SA_RESETHAND restored the default action; SA_NODEFER: not blocked */
-    _exit(128 + sig); /* not reached */
+    (void)arg;
+    for (;;) {
+        int sig = 0;
+        if (sigwait(&g_set, &sig) != 0)
+            continue;
+        jmf_atomic_shutdown();
+        signal(sig, SIG_DFL);
+        sigset_t one;
+        sigemptyset(&one);
+        sigaddset(&one, sig);
+        pthread_sigmask(SIG_UNBLOCK, &one, NULL);
+        raise(sig);
+        _exit(128 + sig); /* not reached */
+    }
+    return NULL;
+}
+
+static void forward_pipe(int sig)
+{
+    pthread_kill(g_waiter, sig);
 }
 
 void signals_install_cleanup(void)
 {
-    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
-    for (size_t i = 0; i < sizeof sigs / sizeof *sigs; i++) {
-        struct sigaction sa, old;
-        if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN)
-            continue; /* ignored by whoever started us (nohup, a background job): keep it so */
+    static int done;
+    if (done)
+        return;
+    done = 1;
+    sigemptyset(&g_set);
+    for (size_t i = 0; i < sizeof g_sigs / sizeof *g_sigs; i++) {
+        struct sigaction old;
+        if (sigaction(g_sigs[i], NULL, &old) == 0 && old.sa_handler == SIG_IGN)
+            continue; /* ignored by whoever started us: keep it so */
+        sigaddset(&g_set, g_sigs[i]);
+    }
+    sigset_t before;
+    pthread_sigmask(SIG_BLOCK, &g_set, &before);
+    pthread_attr_t at;
+    int ok = pthread_attr_init(&at) == 0;
+    if (ok) {
+        pthread_attr_setdetachstate(&at, PTHREAD_CREATE_DETACHED);
+        pthread_attr_setstacksize(&at, 64 * 1024);
+        ok = pthread_create(&g_waiter, &at, waiter, NULL) == 0;
+        pthread_attr_destroy(&at);
+    }
+    if (!ok) { /* no waiter: the default actions, as if none were installed */
+        pthread_sigmask(SIG_SETMASK, &before, NULL);
+        return;
+    }
+    if (sigismember(&g_set, SIGPIPE)) {
+        struct sigaction sa;
         memset(&sa, 0, sizeof sa);
-        sa.sa_handler = on_signal;
-        sa.sa_flags = SA_RESETHAND | SA_NODEFER;
+        sa.sa_handler = forward_pipe;
         sigemptyset(&sa.sa_mask);
-        sigaction(sigs[i], &sa, NULL);
+        sigaction(SIGPIPE, &sa, NULL);
+        sigset_t pipe_only;
+        sigemptyset(&pipe_only);
+        sigaddset(&pipe_only, SIGPIPE);
+        pthread_sigmask(SIG_UNBLOCK, &pipe_only, NULL); /* the waiter keeps it blocked */
     }
 }

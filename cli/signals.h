@@ -2,11 +2,12 @@
 #ifndef JETMESH_CLI_SIGNALS_H
 #define JETMESH_CLI_SIGNALS_H
 
-/** Installs the handlers. On the signal: jmf_atomic_remove_pending(), then
- *  the default action is restored and the signal raised again, so the
- *  shell sees death by that signal (status 130 for SIGINT, 143 for SIGTERM).
- *  A signal that was ignored when jetmesh started (nohup, a background job
- *  of a non-interactive shell) stays ignored. */
+/** Blocks the signals and starts the thread that takes them (the design is
+ *  at the top of signals.c). Call it first, before any other thread is
+ *  started, so that every thread inherits the mask. On a signal:
+ *  jmf_atomic_shutdown(), then death by that signal (status 130 for
+ *  SIGINT, 143 for SIGTERM, 129 for SIGHUP). A signal that was ignored when
+ *  jetmesh started stays ignored. Calling it again does nothing. */
 void signals_install_cleanup(void);
 
 #endif

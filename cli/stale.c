@@ -40,6 +40,15 @@ static int dead(long pid)
     return kill((pid_t)pid, 0) != 0 && errno == ESRCH;
 }
 
+/* 1 if the temporary was written on this machine, where its pid means
+ * something (the older form without a host was always local); another
+ * host's, on a shared file system, is left to that host */
+static int this_host(const jmf_temp_name *t)
+{
+    const char *h = jmf_atomic_host();
+    return !t->host || (t->host_len == strlen(h) && memcmp(t->host, h, t->host_len) == 0);
+}
+
 /* scans directory dirpath (its first dlen bytes, "" for the current one)
  * for temporaries of the sorted names */
 static size_t scan(char *const *names, size_t count, const char *dirpath, size_t dlen)
@@ -54,10 +63,9 @@ static size_t scan(char *const *names, size_t count, const char *dirpath, size_t
     struct dirent *e;
     while ((e = readdir(d)) != NULL) {
         const char *nm = e->d_name;
-        size_t len;
-        long pid;
-        if (!jmf_atomic_temp_parse(nm, &len, &pid) || !dead(pid)) continue;
-        char *final = join(dirpath, dlen, nm + 1, len);
+        jmf_temp_name t;
+        if (!jmf_atomic_temp_parse(nm, &t) || !this_host(&t) || !dead(t.pid)) continue;
+        char *final = join(dirpath, dlen, nm + 1, t.name_len);
         if (!final) break;
         if (bsearch(&final, names, count, sizeof *names, cmp_str)) {
             char *tmp = join(dirpath, dlen, nm, strlen(nm));

@@ -1,22 +1,32 @@
-/* atomic_file.c - writes an output through "DIR/.NAME.jetmesh-tmp-PID", fsyncs and renames it into place. */
+/* atomic_file.c - writes an output through a hidden temporary beside it, fsyncs and renames it into place. */
 #include "atomic_file.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
 #include <stdarg.h>
-#include <stdatomic.h>
+#include <pthread.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/random.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 /*
- * Temporaries still open are kept in a fixed table so that a signal handler
- * can unlink them with nothing but atomic loads and unlink(2). A slot is
- * FREE, FILLING (its path being copied in) or ARMED. A path too long for a
- * slot, or a 65th simultaneous output, is simply not registered: the write
- * still works, only the cleanup on a signal cannot see it.
+ * Temporaries and signals. Every temporary this process has on disk is in
+ * one registry, guarded by one mutex. Creating a temporary (open with
+ * O_EXCL) and registering it is a single step under that mutex, and so are
+ * renaming one into place and removing one: nothing can create, rename or
+ * unlink a temporary between the moment the registry is closed and the
+ * process's death. jmf_atomic_shutdown() (called by the CLI's signal
+ * thread, cli/signals.c) takes the mutex, marks the registry closed and
+ * unlinks every registered temporary; from then on opens and renames fail
+ * ("stopping"). So whatever the threads are doing when a signal arrives,
+ * no temporary outlives the process and every output is either the old
+ * file or the complete new one. The registry grows as needed: a
+ * temporary that cannot be registered is not created.
  *
  * A target that exists and is neither a regular file nor a directory (a
  * FIFO, /dev/stdout, /dev/null, /dev/full) is written directly: renaming a
@@ -24,50 +34,97 @@
  * what the user meant. Such a write is not atomic, but errors are still
  * reported. A symbolic link is followed: the file it points to is replaced
  * and the link kept.
+ *
+ * Names: "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND", HOST this machine's name
+ * (letters, digits, '.', '_' and '-' kept, others as '_', at most 64),
+ * RAND 8 hex digits drawn once per process: shards on different hosts
+ * sharing a network file system never collide, and a later run on the same
+ * host can tell a dead process's leftovers (cli/stale.c).
  */
-enum { SLOT_FREE = 0, SLOT_FILLING = 1, SLOT_ARMED = 2 };
-#define PENDING_SLOTS 64
-#define PENDING_PATH 4096
+static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
+static char **g_pending;    /* temporaries on disk, registered */
+static size_t g_npending, g_cappending;
+static int g_closed;        /* jmf_atomic_shutdown ran */
 
-static struct pending_slot {
-    atomic_int state;
-    char path[PENDING_PATH];
-} g_pending[PENDING_SLOTS];
-
-static void pending_add(const char *path)
-{
-    size_t n = strlen(path);
-    if (n >= PENDING_PATH) return;
-    for (int i = 0; i < PENDING_SLOTS; i++) {
-        int expect = SLOT_FREE;
-        if (atomic_compare_exchange_strong(&g_pending[i].state, &expect, SLOT_FILLING)) {
-            memcpy(g_pending[i].path, path, n + 1);
-            atomic_store(&g_pending[i].state, SLOT_ARMED);
-            return;
-        }
-    }
-}
-
+/* under g_lock */
 static int pending_find(const char *path)
 {
-    for (int i = 0; i < PENDING_SLOTS; i++)
-        if (atomic_load(&g_pending[i].state) == SLOT_ARMED &&
-            strcmp(g_pending[i].path, path) == 0)
-            return i;
+    for (size_t i = 0; i < g_npending; i++)
+        if (strcmp(g_pending[i], path) == 0) return (int)i;
     return -1;
 }
 
+/* under g_lock; 0 on allocation failure */
+static int pending_add(const char *path)
+{
+    if (g_npending == g_cappending) {
+        size_t nc = g_cappending ? 2 * g_cappending : 16;
+        char **p = realloc(g_pending, nc * sizeof *p);
+        if (!p) return 0;
+        g_pending = p;
+        g_cappending = nc;
+    }
+    size_t n = strlen(path) + 1;
+    char *d = malloc(n);
+    if (!d) return 0;
+    memcpy(d, path, n);
+    g_pending[g_npending++] = d;
+    return 1;
+}
+
+/* under g_lock */
 static void pending_remove(const char *path)
 {
     int i = pending_find(path);
-    if (i >= 0) atomic_store(&g_pending[i].state, SLOT_FREE);
+    if (i < 0) return;
+    free(g_pending[i]);
+    g_pending[i] = g_pending[--g_npending];
 }
 
-void jmf_atomic_remove_pending(void)
+void jmf_atomic_shutdown(void)
 {
-    for (int i = 0; i < PENDING_SLOTS; i++)
-        if (atomic_load(&g_pending[i].state) == SLOT_ARMED)
-            unlink(g_pending[i].path);
+    pthread_mutex_lock(&g_lock);
+    g_closed = 1;
+    for (size_t i = 0; i < g_npending; i++) {
+        unlink(g_pending[i]);
+        free(g_pending[i]);
+    }
+    g_npending = 0;
+    pthread_mutex_unlock(&g_lock);
+}
+
+/* ---- names */
+static pthread_once_t g_name_once = PTHREAD_ONCE_INIT;
+static char g_host[65];
+static char g_rand[9];
+
+static void make_name_parts(void)
+{
+    char h[256] = "";
+    if (gethostname(h, sizeof h - 1) != 0) h[0] = '\0';
+    h[sizeof h - 1] = '\0';
+    size_t k = 0;
+    for (size_t i = 0; h[i] && k < sizeof g_host - 1; i++) {
+        char c = h[i];
+        int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                 c == '.' || c == '_' || c == '-';
+        g_host[k++] = ok ? c : '_';
+    }
+    if (k == 0) memcpy(g_host, "localhost", (k = 9));
+    g_host[k] = '\0';
+    uint32_t r = 0;
+    if (getrandom(&r, sizeof r, GRND_NONBLOCK) != (ssize_t)sizeof r) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        r = (uint32_t)ts.tv_nsec * 2654435761u ^ (uint32_t)ts.tv_sec ^ (uint32_t)getpid() * 40503u;
+    }
+    snprintf(g_rand, sizeof g_rand, "%08x", (unsigned)r);
+}
+
+const char *jmf_atomic_host(void)
+{
+    pthread_once(&g_name_once, make_name_parts);
+    return g_host;
 }
 
 static void set_err(char *err, size_t errlen, const char *fmt, ...)
@@ -89,31 +146,53 @@ static char *dup_str(const char *s)
 
 #define TEMP_TAG ".jetmesh-tmp-"
 
-int jmf_atomic_temp_parse(const char *name, size_t *out_len, long *out_pid)
+static int all_of(const char *s, size_t n, const char *set)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!strchr(set, s[i])) return 0;
+    return 1;
+}
+
+int jmf_atomic_temp_parse(const char *name, jmf_temp_name *out)
 {
     const char *tag = name && name[0] == '.' ? strstr(name + 1, TEMP_TAG) : NULL;
     if (!tag || tag == name + 1) return 0;
     const char *d = tag + strlen(TEMP_TAG);
     size_t nd = strlen(d);
-    if (nd == 0 || nd > 9 || strspn(d, "0123456789") != nd) return 0;
-    *out_len = (size_t)(tag - name - 1);
-    *out_pid = strtol(d, NULL, 10);
+    static const char digits[] = "0123456789";
+    jmf_temp_name t;
+    memset(&t, 0, sizeof t);
+    t.name_len = (size_t)(tag - name - 1);
+    if (nd >= 1 && nd <= 9 && all_of(d, nd, digits)) { /* before 0.4: ".NAME.jetmesh-tmp-PID" */
+        t.pid = strtol(d, NULL, 10);
+    } else {
+        /* HOST-PID-RAND, parsed from the right: HOST may hold '-' */
+        if (nd < 12 || d[nd - 9] != '-' || !all_of(d + nd - 8, 8, "0123456789abcdef")) return 0;
+        size_t end = nd - 9, p = end;
+        while (p > 0 && strchr(digits, d[p - 1])) p--;
+        if (p == end || end - p > 9 || p < 2 || d[p - 1] != '-') return 0;
+        t.pid = strtol(d + p, NULL, 10);
+        t.host = d;
+        t.host_len = p - 1;
+    }
+    *out = t;
     return 1;
 }
 
-/* "DIR/NAME" -> "DIR/.NAME.jetmesh-tmp-PID"; NULL on allocation failure. */
+/* "DIR/NAME" -> "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND"; NULL on allocation failure. */
 static char *temp_name_for(const char *path)
 {
+    jmf_atomic_host();
     const char *slash = strrchr(path, '/');
     size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0;
     const char *name = path + dirlen;
-    char pid[32];
-    int pn = snprintf(pid, sizeof pid, "%ld", (long)getpid());
-    size_t len = dirlen + 1 + strlen(name) + strlen(TEMP_TAG) + (size_t)pn + 1;
+    char suffix[128];
+    int sn = snprintf(suffix, sizeof suffix, "%s-%ld-%s", g_host, (long)getpid(), g_rand);
+    size_t len = dirlen + 1 + strlen(name) + strlen(TEMP_TAG) + (size_t)sn + 1;
     char *t = malloc(len);
     if (!t) return NULL;
     memcpy(t, path, dirlen);
-    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", name, pid);
+    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", name, suffix);
     return t;
 }
 
@@ -125,6 +204,17 @@ static void release(jmf_atomic_file *af)
     af->temp_path = NULL;
     af->fp = NULL;
     af->finished = 0;
+}
+
+/* unlinks and unregisters a temporary, in one step */
+static void remove_temp(const char *temp)
+{
+    pthread_mutex_lock(&g_lock);
+    if (pending_find(temp) >= 0) {
+        unlink(temp);
+        pending_remove(temp);
+    }
+    pthread_mutex_unlock(&g_lock);
 }
 
 jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, size_t errlen)
@@ -186,31 +276,46 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
         release(af);
         return JMF_E_NOMEM;
     }
-    int fd = -1;
-    for (int attempt = 0; attempt < 2 && fd < 0; attempt++) {
-        fd = open(af->temp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST) break;
-        if (pending_find(af->temp_path) >= 0) {
-            set_err(err, errlen, "%s: already being written by this process", path);
-            release(af);
-            return JMF_E_IO;
+    /* create and register in one step (see the top of the file) */
+    int fd = -1, e = 0;
+    const char *why = NULL;
+    pthread_mutex_lock(&g_lock);
+    if (g_closed) {
+        why = "stopping on a signal";
+    } else if (pending_find(af->temp_path) >= 0) {
+        why = "already being written by this process";
+    } else {
+        for (int attempt = 0; attempt < 2 && fd < 0; attempt++) {
+            fd = open(af->temp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+            if (fd >= 0 || errno != EEXIST) break;
+            unlink(af->temp_path); /* a dead process's, with our host, pid and draw */
         }
-        unlink(af->temp_path); /* left behind by a dead process with our pid */
+        e = errno;
+        if (fd >= 0 && !pending_add(af->temp_path)) {
+            close(fd);
+            unlink(af->temp_path);
+            fd = -1;
+            e = ENOMEM;
+        }
     }
-    if (fd < 0) {
-        set_err(err, errlen, "%s: cannot create temporary file %s: %s", path,
-                af->temp_path, strerror(errno));
+    pthread_mutex_unlock(&g_lock);
+    if (why) {
+        set_err(err, errlen, "%s: %s", path, why);
         release(af);
         return JMF_E_IO;
     }
-    pending_add(af->temp_path);
+    if (fd < 0) {
+        set_err(err, errlen, "%s: cannot create temporary file %s: %s", path,
+                af->temp_path, strerror(e));
+        release(af);
+        return e == ENOMEM ? JMF_E_NOMEM : JMF_E_IO;
+    }
     if (exists) (void)fchmod(fd, keep_mode);
     af->fp = fdopen(fd, "wb");
     if (!af->fp) {
-        int e = errno;
+        e = errno;
         close(fd);
-        unlink(af->temp_path);
-        pending_remove(af->temp_path);
+        remove_temp(af->temp_path);
         set_err(err, errlen, "%s: %s", path, strerror(e));
         release(af);
         return JMF_E_IO;
@@ -260,7 +365,8 @@ jmf_status jmf_atomic_finish(jmf_atomic_file *af, char *err, size_t errlen)
     return JMF_OK;
 }
 
-jmf_status jmf_atomic_publish(jmf_atomic_file *af, char *err, size_t errlen)
+/* fsync (unless no_sync) and close: the first half of a publish */
+static jmf_status sync_close(jmf_atomic_file *af, char *err, size_t errlen)
 {
     if (!af || !af->finished || !af->fp) {
         set_err(err, errlen, "publish of a file that is not finished");
@@ -279,14 +385,57 @@ jmf_status jmf_atomic_publish(jmf_atomic_file *af, char *err, size_t errlen)
         e = errno ? errno : EIO;
     }
     af->fp = NULL;
-    if (!what && af->temp_path && rename(af->temp_path, af->final_path) != 0) {
-        what = "rename failed";
-        e = errno;
+    return what ? fail_file(af, what, e, err, errlen) : JMF_OK;
+}
+
+jmf_status jmf_atomic_publish_all(jmf_atomic_file *afs, int n, char *err, size_t errlen)
+{
+    jmf_status st = JMF_OK;
+    for (int i = 0; i < n; i++) {
+        if (!st) st = sync_close(&afs[i], err, errlen);
+        else jmf_atomic_abort(&afs[i]);
     }
-    if (what) return fail_file(af, what, e, err, errlen);
-    if (af->temp_path) pending_remove(af->temp_path);
-    release(af);
+    if (st) {
+        for (int i = 0; i < n; i++) jmf_atomic_abort(&afs[i]);
+        return st;
+    }
+    /* every rename of the group under the lock: a signal sees all or none */
+    const char *what = NULL;
+    int e = 0, bad = -1;
+    pthread_mutex_lock(&g_lock);
+    if (g_closed) {
+        what = "stopping on a signal";
+        bad = 0;
+    }
+    for (int i = 0; i < n && !what; i++) {
+        jmf_atomic_file *af = &afs[i];
+        if (!af->temp_path) continue; /* written in place */
+        if (rename(af->temp_path, af->final_path) != 0) {
+            what = "rename failed";
+            e = errno;
+            bad = i;
+            break;
+        }
+        pending_remove(af->temp_path);
+    }
+    pthread_mutex_unlock(&g_lock);
+    if (what) {
+        set_err(err, errlen, "%s: %s%s%s", afs[bad].final_path, what, e ? ": " : "", e ? strerror(e) : "");
+        for (int i = bad; i < n; i++) jmf_atomic_abort(&afs[i]);
+        for (int i = 0; i < bad; i++) release(&afs[i]);
+        return JMF_E_IO;
+    }
+    for (int i = 0; i < n; i++) release(&afs[i]);
     return JMF_OK;
+}
+
+jmf_status jmf_atomic_publish(jmf_atomic_file *af, char *err, size_t errlen)
+{
+    if (!af) {
+        set_err(err, errlen, "publish of a file that is not finished");
+        return JMF_E_IO;
+    }
+    return jmf_atomic_publish_all(af, 1, err, errlen);
 }
 
 jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen)
@@ -300,9 +449,6 @@ void jmf_atomic_abort(jmf_atomic_file *af)
     if (!af) return;
     if (af->fp) fclose(af->fp);
     af->fp = NULL;
-    if (af->temp_path) {
-        unlink(af->temp_path);
-        pending_remove(af->temp_path);
-    }
+    if (af->temp_path) remove_temp(af->temp_path);
     release(af);
 }

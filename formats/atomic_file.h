@@ -10,7 +10,8 @@
 extern "C" {
 #endif
 
-/** An output being written. The temporary is "DIR/.NAME.jetmesh-tmp-PID". */
+/** An output being written. The temporary is
+ *  "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND" (see jmf_atomic_temp_parse). */
 typedef struct jmf_atomic_file {
     FILE *fp;          /**< write to this */
     char *final_path;
@@ -22,7 +23,9 @@ typedef struct jmf_atomic_file {
     int finished;      /**< set by jmf_atomic_finish */
 } jmf_atomic_file;
 
-/** Creates the temporary for path (refuses a path that is a directory). */
+/** Creates the temporary for path (refuses a path that is a directory).
+ *  Creating and registering it for jmf_atomic_shutdown() is one step; after
+ *  a shutdown it fails ("stopping on a signal"). */
 jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, size_t errlen);
 
 /** Flushes, fsyncs, closes and renames the temporary over the final path.
@@ -44,6 +47,12 @@ jmf_status jmf_atomic_commit(jmf_atomic_file *af, char *err, size_t errlen);
 jmf_status jmf_atomic_finish(jmf_atomic_file *af, char *err, size_t errlen);
 jmf_status jmf_atomic_publish(jmf_atomic_file *af, char *err, size_t errlen);
 
+/** Publishes n finished files as one: all are synced and closed, then all
+ *  are renamed in order under the lock that jmf_atomic_shutdown() takes,
+ *  so a signal sees every rename of the group or none (a .gltf and its
+ *  .bin). On failure, those not yet renamed are removed; all are released. */
+jmf_status jmf_atomic_publish_all(jmf_atomic_file *afs, int n, char *err, size_t errlen);
+
 /** Writes n bytes to the temporary. On a short write (disk full, file too
  *  large, I/O error) returns JMF_E_IO with one line naming the final path
  *  and the cause; the caller then calls jmf_atomic_abort(). */
@@ -53,14 +62,29 @@ jmf_status jmf_atomic_write(jmf_atomic_file *af, const void *data, size_t n,
 /** Closes and removes the temporary; the final path is untouched. */
 void jmf_atomic_abort(jmf_atomic_file *af);
 
-/** 1 if name (a directory entry) is a temporary of this writer,
- *  ".NAME.jetmesh-tmp-PID": then NAME is the *out_len bytes at name + 1 and
- *  *out_pid the process that wrote it. 0 otherwise. */
-int jmf_atomic_temp_parse(const char *name, size_t *out_len, long *out_pid);
+/** A temporary's name, parsed. */
+typedef struct jmf_temp_name {
+    size_t name_len;  /**< NAME is the name_len bytes after the leading '.' */
+    long pid;         /**< the process that wrote it */
+    const char *host; /**< HOST, host_len bytes into the parsed name; NULL
+                           for the form before 0.4, ".NAME.jetmesh-tmp-PID",
+                           which carried no host */
+    size_t host_len;
+} jmf_temp_name;
 
-/** Async-signal-safe: unlinks every temporary still open in this process.
- *  For SIGINT/SIGTERM handlers, before _exit(). */
-void jmf_atomic_remove_pending(void);
+/** 1 if name (a directory entry) is a temporary of this writer,
+ *  ".NAME.jetmesh-tmp-HOST-PID-RAND" (or the older ".NAME.jetmesh-tmp-PID"),
+ *  filling *out; 0 otherwise. */
+int jmf_atomic_temp_parse(const char *name, jmf_temp_name *out);
+
+/** This machine's name as it appears in temporaries' names. */
+const char *jmf_atomic_host(void);
+
+/** Stops all output for good: under the writer's lock, no temporary can be
+ *  created or renamed into place after it, and every temporary still on
+ *  disk is unlinked. For the thread that takes SIGINT/SIGTERM/... before
+ *  the process dies (cli/signals.c); not async-signal-safe. */
+void jmf_atomic_shutdown(void);
 
 #ifdef __cplusplus
 }

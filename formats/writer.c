@@ -275,7 +275,10 @@ static jmf_status write_mesh(const char *path, const jm_mesh *mesh, const jmf_wr
 jmf_status jmf_write_mesh(const char *path, const jm_mesh *mesh, const jmf_write_options *opt, size_t *out_bytes,
                           char *err, size_t errlen)
 {
-    return write_mesh(path, mesh, opt, out_bytes, NULL, err, errlen);
+    /* staged, then published as one: a .gltf and its .bin appear together */
+    jmf_staged s;
+    jmf_status st = jmf_write_mesh_staged(path, mesh, opt, out_bytes, &s, err, errlen);
+    return st ? st : jmf_staged_publish(&s, err, errlen);
 }
 
 jmf_status jmf_write_mesh_staged(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
@@ -290,11 +293,7 @@ jmf_status jmf_write_mesh_staged(const char *path, const jm_mesh *mesh, const jm
 
 jmf_status jmf_staged_publish(jmf_staged *s, char *err, size_t errlen)
 {
-    jmf_status st = JMF_OK;
-    for (int i = 0; i < s->count; i++) {
-        if (!st) st = jmf_atomic_publish(&s->files[i], err, errlen);
-        else jmf_atomic_abort(&s->files[i]); /* the .gltf of a .bin that failed */
-    }
+    jmf_status st = s->count ? jmf_atomic_publish_all(s->files, s->count, err, errlen) : JMF_OK;
     s->count = 0;
     return st;
 }

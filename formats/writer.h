@@ -61,7 +61,8 @@ typedef struct jmf_staged {
  *  left. Lets a converter write frames ahead and publish them in order. */
 jmf_status jmf_write_mesh_staged(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
                                  size_t *out_bytes, jmf_staged *out_staged, char *err, size_t errlen);
-/** Syncs (unless no_sync) and renames the staged files, in order. */
+/** Syncs (unless no_sync) and renames the staged files in order, as one
+ *  (jmf_atomic_publish_all): a signal sees both renames or neither. */
 jmf_status jmf_staged_publish(jmf_staged *s, char *err, size_t errlen);
 /** Accepts NULL and an empty stage. */
 void jmf_staged_abort(jmf_staged *s);

@@ -97,7 +97,7 @@ if await_temp; then
     if [ "$st" = 137 ]; then
         cmp -s "$T/big.obj" "$T/good.obj" || fail "SIGKILL during the write changed the existing output"
         for f in $(temps "$T"); do
-            case "$f" in .big.obj.jetmesh-tmp-*) ;; *) fail "unexpected leftover $f" ;; esac
+            case "$f" in .big.obj.jetmesh-tmp-*-*-*) ;; *) fail "unexpected leftover $f" ;; esac
         done
         # the next run writing big.obj removes what the dead process left
         "$J" convert "$S/jet_099.csv" -r 0.025 -o "$T/big.obj" >"$T/out" 2>"$T/err" || fail "convert after SIGKILL"
@@ -157,19 +157,28 @@ pid=""
 [ -z "$(temps "$T/seq")" ] || fail "SIGTERM left a temporary: $(temps "$T/seq")"
 for f in $(ls "$T/seq"); do cmp -s "$T/seq/$f" "$T/ref/$f" || fail "incomplete $f after SIGTERM"; done
 echo "ok: SIGTERM mid-sequence (exit $st): $(ls "$T/seq" | wc -l) complete outputs, no temporary"
-# 6. only leftovers of dead processes beside this run's outputs are removed:
-#    not a live process's (this shell's), not another file's
+# 6. only leftovers of dead processes on this host beside this run's outputs
+#    are removed: not a live process's (this shell's), not another file's,
+#    not another host's (a shared file system: its pid means nothing here);
+#    the older names without a host count as this host's
 mkdir "$T/left"
 sh -c 'exit 0' &
 dead=$!
 wait "$dead"
+host=$(uname -n | cut -c1-64 | tr -c 'A-Za-z0-9._\n-' '_')
 touch "$T/left/.m.glb.jetmesh-tmp-$dead" "$T/left/.m.glb.jetmesh-tmp-$$" "$T/left/.other.glb.jetmesh-tmp-$dead"
 touch "$T/left/.n.bin.jetmesh-tmp-$dead"
-"$J" convert "$S/jet_099.csv" -r 0.025 -q -o "$T/left/m.glb" || fail "convert beside leftovers"
+touch "$T/left/.m.glb.jetmesh-tmp-$host-$dead-0123abcd" "$T/left/.m.glb.jetmesh-tmp-$host-$$-0123abcd"
+touch "$T/left/.m.glb.jetmesh-tmp-other-node.$host-$dead-0123abcd"
+"$J" convert "$S/jet_099.csv" -r 0.025 -o "$T/left/m.glb" >"$T/out" || fail "convert beside leftovers"
+grep -q 'removed 2 temporaries left by an interrupted run' "$T/out" || { cat "$T/out"; fail "expected 2 removed"; }
 "$J" convert "$S/jet_099.csv" -r 0.025 -q -o "$T/left/n.gltf" || fail "convert beside leftovers"
 [ ! -e "$T/left/.m.glb.jetmesh-tmp-$dead" ] || fail "a dead run's temporary of m.glb was kept"
+[ ! -e "$T/left/.m.glb.jetmesh-tmp-$host-$dead-0123abcd" ] || fail "a dead run's temporary (with host) was kept"
 [ ! -e "$T/left/.n.bin.jetmesh-tmp-$dead" ] || fail "a dead run's temporary of the .bin of n.gltf was kept"
 [ -e "$T/left/.m.glb.jetmesh-tmp-$$" ] || fail "a live process's temporary was removed"
+[ -e "$T/left/.m.glb.jetmesh-tmp-$host-$$-0123abcd" ] || fail "a live process's temporary (with host) was removed"
+[ -e "$T/left/.m.glb.jetmesh-tmp-other-node.$host-$dead-0123abcd" ] || fail "another host's temporary was removed"
 [ -e "$T/left/.other.glb.jetmesh-tmp-$dead" ] || fail "the temporary of another output was removed"
-echo "ok: leftovers of dead runs beside the outputs removed, others kept"
+echo "ok: leftovers of dead runs on this host beside the outputs removed, others kept"
 echo "all kill checks passed"

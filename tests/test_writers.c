@@ -14,6 +14,7 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "../formats/atomic_file.h"
@@ -778,20 +779,35 @@ static void test_atomic_commit_and_names(void **state)
     const char *path = in_dir("a.txt");
     assert_int_equal(jmf_atomic_open(&af, path, err, sizeof err), JMF_OK);
     char want[600];
-    snprintf(want, sizeof want, "%s/.a.txt.jetmesh-tmp-%ld", g_dir, (long)getpid());
-    assert_string_equal(af.temp_path, want);
-    /* the name parses back to the output's name and this process */
-    size_t len = 0;
-    long pid = 0;
+    snprintf(want, sizeof want, "%s/.a.txt.jetmesh-tmp-%s-%ld-", g_dir, jmf_atomic_host(), (long)getpid());
+    assert_memory_equal(af.temp_path, want, strlen(want));
+    assert_int_equal(strlen(af.temp_path), strlen(want) + 8); /* 8 hex digits drawn per process */
+    snprintf(want, sizeof want, "%s", af.temp_path);
+    /* the name parses back to the output's name, this host and this process */
+    jmf_temp_name t;
     const char *base = strrchr(af.temp_path, '/') + 1;
-    assert_int_equal(jmf_atomic_temp_parse(base, &len, &pid), 1);
-    assert_int_equal(len, strlen("a.txt"));
-    assert_memory_equal(base + 1, "a.txt", len);
-    assert_int_equal(pid, (long)getpid());
+    assert_int_equal(jmf_atomic_temp_parse(base, &t), 1);
+    assert_int_equal(t.name_len, strlen("a.txt"));
+    assert_memory_equal(base + 1, "a.txt", t.name_len);
+    assert_int_equal(t.pid, (long)getpid());
+    assert_non_null(t.host);
+    assert_int_equal(t.host_len, strlen(jmf_atomic_host()));
+    assert_memory_equal(t.host, jmf_atomic_host(), t.host_len);
+    /* host names may hold '-'; the older form has no host */
+    assert_int_equal(jmf_atomic_temp_parse(".m.glb.jetmesh-tmp-node-07.cluster-4321-0badcafe", &t), 1);
+    assert_int_equal(t.pid, 4321);
+    assert_int_equal(t.host_len, strlen("node-07.cluster"));
+    assert_memory_equal(t.host, "node-07.cluster", t.host_len);
+    assert_int_equal(t.name_len, strlen("m.glb"));
+    assert_int_equal(jmf_atomic_temp_parse(".m.glb.jetmesh-tmp-4321", &t), 1);
+    assert_int_equal(t.pid, 4321);
+    assert_null(t.host);
     static const char *const not_temps[] = {"a.txt", ".a.txt", ".jetmesh-tmp-12", ".a.jetmesh-tmp-",
-                                            ".a.jetmesh-tmp-12x", "a.jetmesh-tmp-12", ".a.jetmesh-tmp-1234567890"};
+                                            ".a.jetmesh-tmp-12x", "a.jetmesh-tmp-12", ".a.jetmesh-tmp-1234567890",
+                                            ".a.jetmesh-tmp-h-12-0badcafX", ".a.jetmesh-tmp--12-0badcafe",
+                                            ".a.jetmesh-tmp-h-x-0badcafe", ".a.jetmesh-tmp-h-12-badcafe"};
     for (size_t i = 0; i < sizeof not_temps / sizeof *not_temps; i++)
-        assert_int_equal(jmf_atomic_temp_parse(not_temps[i], &len, &pid), 0);
+        assert_int_equal(jmf_atomic_temp_parse(not_temps[i], &t), 0);
     assert_true(file_size(want) == 0);
     assert_int_equal(file_size(path), -1); /* nothing at the target yet */
     assert_int_equal(jmf_atomic_write(&af, "hello\n", 6, err, sizeof err), JMF_OK);
@@ -874,26 +890,48 @@ static void test_atomic_abort_keeps_target(void **state)
     jmf_atomic_abort(NULL);
 }
 
-static void test_atomic_remove_pending(void **state)
+/* jmf_atomic_shutdown (what the signal thread calls): every temporary is
+ * gone, the targets untouched, and nothing can be created or renamed
+ * afterwards, from any thread. It closes the writer for good, so it runs
+ * in a child process. */
+static void test_atomic_shutdown(void **state)
 {
     (void)state;
     char err[512];
-    jmf_atomic_file a, b;
     spit(in_dir("p1"), "one");
-    assert_int_equal(jmf_atomic_open(&a, in_dir("p1"), err, sizeof err), JMF_OK);
-    assert_int_equal(jmf_atomic_open(&b, in_dir("p2"), err, sizeof err), JMF_OK);
-    /* the same target twice at once is refused */
-    jmf_atomic_file c;
-    assert_int_equal(jmf_atomic_open(&c, in_dir("p1"), err, sizeof err), JMF_E_IO);
-    assert_non_null(strstr(err, "already being written"));
-    assert_int_equal(temp_files(), 2);
-    jmf_atomic_remove_pending(); /* what a SIGINT handler calls */
-    assert_int_equal(temp_files(), 0);
+    pid_t child = fork();
+    assert_true(child >= 0);
+    if (child == 0) {
+        jmf_atomic_file a, b, c, d;
+        int bad = 0;
+        bad |= jmf_atomic_open(&a, in_dir("p1"), err, sizeof err) != JMF_OK;
+        bad |= jmf_atomic_open(&b, in_dir("p2"), err, sizeof err) != JMF_OK;
+        /* the same target twice at once is refused */
+        bad |= jmf_atomic_open(&c, in_dir("p1"), err, sizeof err) != JMF_E_IO;
+        bad |= strstr(err, "already being written") == NULL;
+        bad |= jmf_atomic_write(&b, "two", 3, err, sizeof err) != JMF_OK;
+        bad |= jmf_atomic_finish(&b, err, sizeof err) != JMF_OK;
+        bad |= temp_files() != 2;
+        jmf_atomic_shutdown();
+        bad |= temp_files() != 0;
+        /* a finished file is not renamed, a new one not created */
+        bad |= jmf_atomic_publish(&b, err, sizeof err) != JMF_E_IO;
+        bad |= strstr(err, "stopping") == NULL;
+        bad |= jmf_atomic_open(&d, in_dir("p3"), err, sizeof err) != JMF_E_IO;
+        bad |= strstr(err, "stopping") == NULL;
+        jmf_atomic_abort(&a);
+        jmf_atomic_shutdown(); /* twice: harmless */
+        bad |= temp_files() != 0;
+        _exit(bad ? 1 : 0);
+    }
+    int status = 0;
+    assert_int_equal(waitpid(child, &status, 0), child);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
     assert_true(file_equals(in_dir("p1"), "one"));
-    jmf_atomic_abort(&a);
-    jmf_atomic_abort(&b);
-    jmf_atomic_remove_pending(); /* nothing left: harmless */
     assert_int_equal(file_size(in_dir("p2")), -1);
+    assert_int_equal(file_size(in_dir("p3")), -1);
+    assert_int_equal(temp_files(), 0);
 }
 
 static void test_atomic_refuses_directory(void **state)
@@ -1030,7 +1068,7 @@ int main(void)
         cmocka_unit_test(test_generator_stays_one_line),
         cmocka_unit_test(test_atomic_commit_and_names),
         cmocka_unit_test(test_atomic_abort_keeps_target),
-        cmocka_unit_test(test_atomic_remove_pending),
+        cmocka_unit_test(test_atomic_shutdown),
         cmocka_unit_test(test_atomic_refuses_directory),
         cmocka_unit_test(test_staged_publish_and_abort),
         cmocka_unit_test(test_atomic_missing_parent),
