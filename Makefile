@@ -3,6 +3,7 @@
 #   make            library, CLI               make check   every test (installs deps)
 #   make demo       convert the jet sample     make bench   benchmark suite -> BENCHMARKS.md
 #   make fuzz       run the fuzzers            make install PREFIX=/usr/local
+#   make kill-soak  signals at random moments, cores loaded (the long kill test)
 
 CC      ?= cc
 CXX     ?= c++
@@ -43,7 +44,7 @@ CLI   = $(BUILD)/jetmesh
 
 .SECONDARY:
 
-.PHONY: all deps deps-build check test-unit test-scripts demo bench fuzz fuzz-build install clean asan
+.PHONY: all deps deps-build check kill-soak test-unit test-scripts demo bench fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
@@ -99,6 +100,11 @@ test-unit: tests-build
 
 test-scripts: tests-build
 	@tests/run_all.sh $(BUILD) scripts
+
+# The kill race, hard: 216 signals at random moments with both cores loaded.
+kill-soak: tests-build
+	@KILL_ROUNDS=$${KILL_ROUNDS:-24} JETMESH_ROOT=$(CURDIR) JETMESH=$(CURDIR)/$(BUILD)/jetmesh \
+	    JETMESH_BUILD=$(CURDIR)/$(BUILD) sh tests/t_cli_kill_race.sh
 
 # The main job: convert the shipped jet sequence (see README).
 demo: deps
