@@ -173,6 +173,16 @@ typedef struct jm_params {
                                  Extraction), so volumes come out unbiased */
     size_t max_bytes;       /**< refuse frames whose estimated working memory
                                  exceeds this (JM_E_TOO_LARGE); 0 = no limit */
+    int keep_cavities;      /**< 1: keep every cavity. Default: a closed
+                                 inward-facing shell (a cavity inside the
+                                 solid) smaller than one particle's ball,
+                                 4/3 pi r^3, is removed: where bulk fluid is
+                                 packed a little unevenly the SPH field dips
+                                 below the threshold inside the liquid, and
+                                 the metasphere leaves such shells between
+                                 balls that do not touch; no simulation
+                                 resolves a bubble that small. Larger
+                                 cavities (real bubbles) are kept. */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
@@ -218,6 +228,8 @@ typedef struct jm_stats {
     size_t peak_bytes;    /**< peak of the context's own heap during the call
                                (mesh included) */
     int threads;          /**< worker threads used */
+    size_t cavities_removed; /**< sub-particle cavities removed (see
+                                  jm_params.keep_cavities) */
 } jm_stats;
 
 typedef struct jm_context jm_context;
@@ -249,6 +261,31 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles,
  */
 jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles,
                             size_t *out_bytes);
+
+/** jm_choose_field's boundary: a mean of this many neighbours or more
+ *  within the link distance is bulk fluid. */
+#define JM_AUTO_BULK_NEIGHBOURS 6.0f
+
+/**
+ * Picks the field and method that suit these particles, as `jetmesh
+ * convert` does when --field is not given (--field auto): the metasphere
+ * with marching tetrahedra for sparse, chain-like frames (a jet, spray,
+ * droplets: what the metasphere was made for) and the SPH colour field with
+ * marching cubes for bulk fluid (where the metasphere leaves cavities
+ * between balls that do not touch). The measure, returned in
+ * *out_neighbours, is the mean number of other particles within the link
+ * distance (params->link_distance * radius, default pi r) of a particle,
+ * over up to 4096 particles taken evenly through the input; bulk when it is
+ * JM_AUTO_BULK_NEIGHBOURS (6) or more. A jet column 1.5r apart has about 4;
+ * bulk fluid at rest spacing 2r has 18 inside and 9 to 13 on its surface.
+ * Only radius and link_distance of params are used (it must be valid for
+ * jm_context_create). Deterministic; one pass over the particles plus
+ * bounded neighbour scans. Any out_ pointer may be NULL. Pick once per
+ * sequence (say from its first frame) so that a run never switches field
+ * half-way.
+ */
+jm_status jm_choose_field(const jm_params *params, const jm_particles *particles, jm_field *out_field,
+                          jm_method *out_method, float *out_neighbours);
 
 /**
  * Evaluates the implicit function (the same value the lattice samples, in
