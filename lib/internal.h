@@ -57,6 +57,7 @@ typedef struct jm_config {
     int normals;
     int templates;
     int compensate;    /* metasphere: offset vertices by the chord sag */
+    int drop_cavities; /* remove inward shells smaller than a particle */
     size_t max_bytes;
 } jm_config;
 

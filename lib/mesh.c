@@ -1,5 +1,6 @@
 /* mesh.c - the context and the frame pipeline: grid, active blocks, batches, stitching, templates. */
 #include "block.h"
+#include "cavities.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -555,6 +556,19 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->ni = ti;
         jm_pool_run(ctx->pool, g.n_isolated, 64, template_task, &job);
     }
+    double tc0 = jm_now_ms();
+    if (c->drop_cavities) {
+        double r3 = (double)c->r * c->r * c->r;
+        size_t nv = ctx->nv, ni = ctx->ni;
+        if (!jm_drop_small_cavities(mem, ctx->pos, ctx->nrm, ctx->uv, ctx->idx, &nv, &ni,
+                                    4.0 / 3.0 * M_PI * r3, &st->cavities_removed)) {
+            s = JM_E_OUT_OF_MEMORY;
+            goto out_job;
+        }
+        ctx->nv = nv;
+        ctx->ni = ni;
+    }
+    double t_cav = jm_now_ms() - tc0;
     double t4 = jm_now_ms();
     /* wall time of the block pass, shared out by the threads' time per stage */
     double sum = tf + te + ta;
@@ -563,8 +577,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         st->ms_extract += t_blocks * te / sum;
         st->ms_attributes += t_blocks * ta / sum;
     }
-    st->ms_extract += t_stitch;
-    st->ms_attributes += t4 - t3;
+    st->ms_extract += t_stitch + t_cav;
+    st->ms_attributes += t4 - t3 - t_cav;
 
 out_job:
     if (job.iso) jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);

@@ -90,6 +90,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->normals = !p.no_normals;
     c->templates = !p.no_templates;
     c->compensate = !p.no_compensation;
+    c->drop_cavities = !p.keep_cavities;
     c->max_bytes = p.max_bytes;
     if (f) *f = p;
     return JM_OK;

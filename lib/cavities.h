@@ -1,0 +1,16 @@
+/* cavities.h - removes closed inward-facing shells smaller than a particle (sub-particle bubbles inside bulk fluid). */
+#ifndef JETMESH_CAVITIES_H
+#define JETMESH_CAVITIES_H
+
+#include "internal.h"
+
+/* Finds the connected components of the mesh (triangles sharing vertices)
+ * and removes each one whose signed volume is negative (a closed shell
+ * facing inward: a cavity inside the solid) and smaller in magnitude than
+ * max_volume, compacting the arrays in place (order kept, so the result is
+ * deterministic). nrm and uv may be NULL. *out_removed gets the number of
+ * cavities removed. 0 if out of memory (the mesh is then unchanged). */
+int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
+                           size_t *ni, double max_volume, size_t *out_removed);
+
+#endif
