@@ -151,3 +151,41 @@ out:
     return r->closed && r->edge_manifold && r->vertex_manifold && r->no_degenerate && r->all_referenced &&
            r->normals_ok && r->volume > 0;
 }
+
+size_t mc_cavities(const jm_mesh *m, size_t *out_components)
+{
+    size_t nv = m->vertex_count, nt = m->triangle_count, cavities = 0, comps = 0;
+    size_t *parent = malloc((nv ? nv : 1) * sizeof *parent);
+    double *vol = calloc(nv ? nv : 1, sizeof *vol);
+    if (!parent || !vol) {
+        free(parent);
+        free(vol);
+        return (size_t)-1;
+    }
+    for (size_t v = 0; v < nv; v++) parent[v] = v;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *i = m->indices + 3 * t;
+        parent[find_root(parent, i[0])] = find_root(parent, i[1]);
+        parent[find_root(parent, i[1])] = find_root(parent, i[2]);
+    }
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *i = m->indices + 3 * t;
+        const float *a = m->positions + 3 * i[0], *b = m->positions + 3 * i[1], *c = m->positions + 3 * i[2];
+        double d = (double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) -
+                   (double)a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
+                   (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0]);
+        vol[find_root(parent, i[0])] += d / 6.0;
+    }
+    for (size_t t = 0; t < nt; t++) { /* each root once: mark by its first triangle */
+        size_t r = find_root(parent, m->indices[3 * t]);
+        if (parent[r] == r && vol[r] == vol[r]) {
+            comps++;
+            if (vol[r] < 0) cavities++;
+            vol[r] = NAN; /* counted */
+        }
+    }
+    free(parent);
+    free(vol);
+    if (out_components) *out_components = comps;
+    return cavities;
+}

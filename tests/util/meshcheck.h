@@ -23,6 +23,11 @@ typedef struct mc_report {
  * How many normals lean away from their faces is left to the caller. */
 int mc_check(const jm_mesh *mesh, mc_report *out);
 
+/* Connected components whose signed volume is negative: closed shells
+ * facing inward, i.e. cavities inside the solid. *out_components (may be
+ * NULL) gets the number of components. (size_t)-1 if out of memory. */
+size_t mc_cavities(const jm_mesh *mesh, size_t *out_components);
+
 /* Deterministic pseudo-random numbers for tests. */
 unsigned mc_rand(unsigned *state);
 float mc_randf(unsigned *state); /* [0, 1) */
