@@ -49,6 +49,8 @@ typedef struct run {
     progress bar;
     size_t failed;
     int worst; /* exit status so far */
+    float neighbours;   /* jm_choose_field's measure on choice_frame; < 0: none */
+    long choice_frame;
 } run;
 
 static int is_gltf_family(int f)
@@ -213,14 +215,69 @@ static const char *uv_name(jm_uv_mode m)
 
 static int frame_jobs(const run *r);
 
+/* "auto" or "given", and the field/method names, for the reports */
+static const char *choice_name(const run *r)
+{
+    return r->o->field_auto ? "auto" : "given";
+}
+
+/* --field auto (the default): the field and method of the whole run, from
+ * the first frame of the sequence that reads (the same for every shard of
+ * a run and for a resumed run); the method only where --method was not
+ * given. With --field metasphere given on what looks like bulk fluid, a
+ * warning with the alternative, once. */
+static void choose_field(run *r)
+{
+    convert_options *o = r->o;
+    r->neighbours = -1.0f;
+    if (!o->field_auto && o->params.field == JM_FIELD_SPH)
+        return;
+    for (size_t i = 0; i < r->frames.count && i < 8; i++) {
+        const seq_frame *f = &r->frames.items[i];
+        jmf_frame fr;
+        char err[1024];
+        memset(&fr, 0, sizeof fr);
+        if (jmf_read_particles(f->path, &o->read, &fr, err, sizeof err) != JMF_OK)
+            continue; /* its own failure is reported in its turn */
+        jm_particles in = {fr.xyz, fr.count, 0, NULL};
+        jm_field fd;
+        jm_method m;
+        float nb;
+        jm_status s = jm_choose_field(&o->params, &in, &fd, &m, &nb);
+        jmf_frame_free(&fr);
+        if (s != JM_OK)
+            continue;
+        r->neighbours = nb;
+        r->choice_frame = f->index;
+        if (o->field_auto) {
+            o->params.field = fd;
+            if (o->params.method == JM_METHOD_DEFAULT)
+                o->params.method = m;
+        } else if (fd == JM_FIELD_SPH && !o->quiet) {
+            fprintf(stderr,
+                    "jetmesh convert: warning: %s looks like bulk fluid (%.1f neighbours within the "
+                    "link distance): the metasphere leaves cavities between particles that do not "
+                    "touch; --field sph --method mc (or no --field) gives one liquid surface\n",
+                    f->path, (double)nb);
+            fflush(stderr);
+        }
+        return;
+    }
+    if (o->field_auto) /* no frame reads: they fail in their turn anyway */
+        o->params.field = JM_FIELD_METASPHERE;
+}
+
 static void print_params(const run *r)
 {
     jm_params p;
     char mem[32];
     jm_context_get_params(r->ctx, &p);
-    printf("jetmesh %s: %zu frames; radius %g, cube size %g r, field %s, method %s, threshold %g, ",
-           jm_version(), r->njobs, (double)p.radius, (double)p.cube_size, field_name(p.field),
-           p.method == JM_METHOD_MC ? "mc" : "mt", (double)p.threshold);
+    printf("jetmesh %s: %zu frames; radius %g, cube size %g r, field %s, method %s (%s", jm_version(),
+           r->njobs, (double)p.radius, (double)p.cube_size, field_name(p.field),
+           p.method == JM_METHOD_MC ? "mc" : "mt", choice_name(r));
+    if (r->neighbours >= 0)
+        printf(": %.2f neighbours in frame %ld", (double)r->neighbours, r->choice_frame);
+    printf("), threshold %g, ", (double)p.threshold);
     if (p.field == JM_FIELD_SPH)
         printf("smoothing length %g r, ", (double)p.smoothing_length);
     else
@@ -413,10 +470,10 @@ static int report(run *r, const job *jb, outcome *oc)
                rec->ms_total, rec->output);
         if (o->verbose)
             printf("  read %.2f ms, field %.2f ms, extract %.2f ms, attributes %.2f ms, write %.2f ms; "
-                   "%zu isolated, %zu blocks, %zu cells, %d threads, library peak %s, "
+                   "%zu isolated, %zu blocks, %zu cells, %zu cavities removed, %d threads, library peak %s, "
                    "process peak %s, %zu bytes written\n",
                    rec->ms_read, rec->ms_field, rec->ms_extract, rec->ms_attributes, rec->ms_write,
-                   st->isolated, st->blocks, st->cells, st->threads,
+                   st->isolated, st->blocks, st->cells, st->cavities_removed, st->threads,
                    platform_format_bytes(st->peak_bytes, b1, sizeof b1),
                    platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), rec->bytes);
         fflush(stdout);
@@ -527,6 +584,12 @@ static void write_reports(run *r, double wall_ms)
     stats_summary sum;
     char err[1024];
     stats_summarize(&r->log, wall_ms, &sum);
+    jm_params p;
+    jm_context_get_params(r->ctx, &p);
+    sum.field = field_name(p.field);
+    sum.method = p.method == JM_METHOD_MC ? "mc" : "mt";
+    sum.field_choice = choice_name(r);
+    sum.neighbours = r->neighbours;
     if (r->o->stats_path)
         platform_make_dirs(r->o->stats_path, 1); /* a failure shows when writing */
     if (r->o->stats_svg)
@@ -542,8 +605,10 @@ static void write_reports(run *r, double wall_ms)
             r->worst = EXIT_SOME_FAILED;
     }
     if (!r->o->quiet) {
-        printf("converted %zu of %zu frames (%zu failed, %zu skipped) in %.2f s, %.1f frames/s\n",
-               sum.ok, r->njobs, sum.failed, sum.skipped, sum.wall_seconds, sum.frames_per_second);
+        printf("converted %zu of %zu frames (%zu failed, %zu skipped) in %.2f s, %.1f frames/s; "
+               "field %s, method %s (%s)\n",
+               sum.ok, r->njobs, sum.failed, sum.skipped, sum.wall_seconds, sum.frames_per_second,
+               sum.field, sum.method, sum.field_choice);
         fflush(stdout);
     }
 }
@@ -610,6 +675,7 @@ int cmd_convert(int argc, char **argv)
     }
     if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
+    choose_field(&r);
 
     jm_status cs = jm_context_create(&o.params, &r.ctx);
     if (cs != JM_OK) {

@@ -73,8 +73,11 @@ void options_convert_help(FILE *f)
         "Meshing:\n"
         "  -r, --radius R              particle radius in world units (required)\n"
         "  -c, --cube-size C           lattice cube edge, relative to R (default 0.5)\n"
-        "      --field metasphere|sph  implicit function (default metasphere)\n"
-        "      --method mt|mc          marching tetrahedra or cubes (default mt)\n"
+        "      --field auto|metasphere|sph  implicit function (default auto: metasphere\n"
+        "                              for sparse frames such as jets and spray, sph\n"
+        "                              for bulk fluid, chosen once from the first frame)\n"
+        "      --method mt|mc          marching tetrahedra or cubes (default mt with the\n"
+        "                              metasphere, mc with sph)\n"
         "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
         "      --smoothing-length L    sph kernel length h, relative to R (default 2)\n"
         "      --link-distance L       metasphere neck link distance, relative to R (default pi)\n"
@@ -84,6 +87,8 @@ void options_convert_help(FILE *f)
         "      --no-normals            write no normals\n"
         "      --no-templates          mesh isolated particles through the lattice too\n"
         "      --uv-axis x|y|z         --uv planar: the projection axis (default z)\n"
+        "      --keep-cavities         keep closed inner shells smaller than a particle\n"
+        "                              (removed by default: sub-particle bubbles)\n"
         "      --no-compensation       metasphere: leave vertices on the surface (no\n"
         "                              chord-sag offset; the mesh is then a bit small)\n"
         "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
@@ -146,7 +151,7 @@ void options_generate_help(FILE *f)
 
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
-    O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
+    O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
     O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
 };
 
@@ -165,6 +170,7 @@ static const struct option convert_long[] = {
     {"no-templates", no_argument, 0, O_NOTEMPLATES},
     {"uv-axis", required_argument, 0, O_UVAXIS},
     {"no-compensation", no_argument, 0, O_NOCOMP},
+    {"keep-cavities", no_argument, 0, O_KEEPCAV},
     {"output", required_argument, 0, 'o'},
     {"format", required_argument, 0, O_FORMAT},
     {"draco", no_argument, 0, O_DRACO},
@@ -224,6 +230,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
     const char *cmd = "convert";
     memset(o, 0, sizeof *o);
     o->max_memory = options_default_max_memory();
+    o->field_auto = 1;
     int radius_given = 0, rc = OPTIONS_RUN;
     optind = 0; /* GNU: full reinitialisation */
     opterr = 0;
@@ -240,12 +247,16 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
             break;
         case 'c': rc = positive(cmd, "--cube-size", optarg, &o->params.cube_size); break;
         case O_FIELD:
+            o->field_auto = 0;
             if (strcmp(optarg, "metasphere") == 0)
                 o->params.field = JM_FIELD_METASPHERE;
             else if (strcmp(optarg, "sph") == 0)
                 o->params.field = JM_FIELD_SPH;
-            else
-                rc = options_usage_error(cmd, "--field is metasphere or sph, not '%s'", optarg);
+            else if (strcmp(optarg, "auto") == 0) {
+                o->params.field = JM_FIELD_DEFAULT;
+                o->field_auto = 1;
+            } else
+                rc = options_usage_error(cmd, "--field is auto, metasphere or sph, not '%s'", optarg);
             break;
         case O_METHOD:
             if (strcmp(optarg, "mt") == 0)
@@ -285,6 +296,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_NONORMALS: o->params.no_normals = 1; break;
         case O_NOTEMPLATES: o->params.no_templates = 1; break;
         case O_NOCOMP: o->params.no_compensation = 1; break;
+        case O_KEEPCAV: o->params.keep_cavities = 1; break;
         case O_UVAXIS:
             if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
             else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;
@@ -360,6 +372,9 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         return options_usage_error(cmd, "no output: give -o OUTPUT");
     if (!radius_given)
         return options_usage_error(cmd, "the particle radius is required: give -r R");
+    if (o->field_auto && o->threshold_given)
+        return options_usage_error(cmd, "--threshold means a different thing for each field (default 0 "
+                                        "metasphere, 0.6 sph): give --field metasphere or --field sph with it");
     o->params.max_bytes = o->max_memory;
     o->read.max_bytes = o->max_memory;
     return OPTIONS_RUN;

@@ -31,6 +31,8 @@ typedef struct convert_options {
     int threshold_given;
     size_t max_memory;       /* bytes; 0 = no limit */
     int frame_jobs;          /* --frame-jobs: frames at once; 0 = auto */
+    int field_auto;          /* --field auto (the default): chosen from the
+                                first frame by jm_choose_field */
 } convert_options;
 
 /* The most frames converted at once (each may hold two finished outputs

@@ -243,6 +243,12 @@ static void write_csv(FILE *f, const stats_log *log, const stats_summary *s)
               f);
     fprintf(f, "# summary wall_seconds=%.3f\n# summary frames_per_second=%.3f\n", s->wall_seconds,
             s->frames_per_second);
+    if (s->field) {
+        fprintf(f, "# summary field=%s\n# summary method=%s\n# summary field_choice=%s\n", s->field,
+                s->method, s->field_choice);
+        if (s->neighbours >= 0)
+            fprintf(f, "# summary neighbours=%.2f\n", s->neighbours);
+    }
 }
 
 static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
@@ -277,8 +283,15 @@ static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
         fputs("\"ms_total_min\": null, \"ms_total_median\": null, \"ms_total_p95\": null, "
               "\"ms_total_max\": null, ",
               f);
-    fprintf(f, "\"wall_seconds\": %.3f, \"frames_per_second\": %.3f}\n}\n", s->wall_seconds,
+    fprintf(f, "\"wall_seconds\": %.3f, \"frames_per_second\": %.3f", s->wall_seconds,
             s->frames_per_second);
+    if (s->field) {
+        fprintf(f, ", \"field\": \"%s\", \"method\": \"%s\", \"field_choice\": \"%s\"", s->field,
+                s->method, s->field_choice);
+        if (s->neighbours >= 0)
+            fprintf(f, ", \"neighbours\": %.2f", s->neighbours);
+    }
+    fputs("}\n}\n", f);
 }
 
 int stats_write(const char *path, const stats_log *log, const stats_summary *sum,

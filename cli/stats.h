@@ -35,6 +35,10 @@ typedef struct stats_summary {
     double ms_min, ms_median, ms_p95, ms_max; /* of ms_total; 0 when ok == 0 */
     double wall_seconds;      /* the whole run */
     double frames_per_second; /* ok / wall_seconds */
+    const char *field;        /* "metasphere" or "sph"; NULL: not written */
+    const char *method;       /* "mt" or "mc" */
+    const char *field_choice; /* "auto" (chosen from the first frame) or "given" */
+    double neighbours;        /* the measure of the choice; < 0: not measured */
 } stats_summary;
 
 /** Appends a zeroed record for a frame (strings copied); NULL if out of memory. */
