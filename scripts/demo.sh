@@ -20,9 +20,9 @@ echo "== the same frames -> glTF with Draco compression (for the web)"
 echo "== the same frames -> OBJ (for MeshLab and anything else)"
 "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$OUT/obj/jet_{}.obj" -q
 
-echo "== a real SPlisHSPlasH frame (4,732 particles) -> SPH colour field, marching cubes"
+echo "== a real SPlisHSPlasH frame (4,732 particles) -> bulk fluid: the SPH colour field and marching cubes, chosen automatically"
 "$J" convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 \
-    --field sph --method mc -o "$OUT/dam_break.glb"
+    -o "$OUT/dam_break.glb"
 
 glb=$(du -sh "$OUT/glb" | cut -f1); drc=$(du -sh "$OUT/draco" | cut -f1); obj=$(du -sh "$OUT/obj" | cut -f1)
 cat <<MSG
