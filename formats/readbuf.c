@@ -72,9 +72,11 @@ int jmr_parse_double(const char *s, size_t n, double *out)
         dp = lc->decimal_point[0];
     for (i = 0; i < n; i++) {
         char c = s[i];
-        /* only the characters a number can have; keeps strtod from surprises */
+        /* only the characters a decimal number can have; keeps strtod from
+         * surprises: no 'x', so no hexadecimal ("0x10" is not 16 in a CSV) */
         if (!((c >= '0' && c <= '9') || c == '.' || c == '+' || c == '-' ||
-              (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '(' || c == ')' || c == '_'))
+              (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '(' || c == ')' || c == '_') ||
+            c == 'x' || c == 'X')
             return 0;
         buf[i] = (c == '.') ? dp : c;
     }

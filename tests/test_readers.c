@@ -430,6 +430,9 @@ static void test_csv_errors(void **state)
     expect_fail("# c\n\nx,y,z\n1,2,3\n4,abc,6\n", "text.csv", JMF_E_FORMAT, "text.csv:5:", "'abc'");
     expect_fail("x,y,z\n1,,3\n", "emptyfield.csv", JMF_E_FORMAT, "emptyfield.csv:2:", "expected a number");
     expect_fail("x,y,z\n1,2,3\n1,2,3e999\n", "big.csv", JMF_E_FORMAT, "big.csv:3:", "non-finite");
+    /* hexadecimal is not CSV: strtod would read 0x10 as 16 */
+    expect_fail("x,y,z\n1,2,3\n0x10,2,3\n", "hex.csv", JMF_E_FORMAT, "hex.csv:3:", "'0x10'");
+    expect_fail("x,y,z\n1,2,0X1p3\n", "hexf.csv", JMF_E_FORMAT, "hexf.csv:2:", "'0X1p3'");
     expect_fail("x,y,z\n1,2,3\n1,\x01,3\n", "ctl.csv", JMF_E_FORMAT, "ctl.csv:3:", "control byte");
     expect_fail("1 2\n", "few.csv", JMF_E_FORMAT, "few.csv:1:", "at least 3");
     expect_fail("x,y,z,id\n1,2,3,seven\n", "id.csv", JMF_E_FORMAT, "id.csv:2:", "integer id");
