@@ -23,9 +23,15 @@ run() { # name, command...
   if [ "$st" = FAIL ]; then sed 's/^/    | /' "$log" | tail -n 40; fi
 }
 if [ "$what" != scripts ]; then
-  for t in "$root/$BUILD"/bin/test_*; do
-    [ -x "$t" ] || continue
-    run "$(basename "$t")" "$t"
+  # every tests/test_*.c must have been built: a missing binary is a failure,
+  # never a silent pass
+  for src in "$here"/test_*.c; do
+    t="$root/$BUILD/bin/$(basename "$src" .c)"
+    if [ -x "$t" ]; then
+      run "$(basename "$t")" "$t"
+    else
+      run "$(basename "$t")" sh -c "echo 'not built: $t (run make tests-build)'; exit 1"
+    fi
   done
 fi
 if [ "$what" != unit ]; then
