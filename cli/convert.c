@@ -12,6 +12,7 @@
 #include "../lib/jetmesh.h"
 #include "farm.h"
 #include "options.h"
+#include "param_errors.h"
 #include "platform.h"
 #include "progress.h"
 #include "sequence.h"
@@ -49,6 +50,7 @@ typedef struct run {
     progress bar;
     size_t failed;
     int worst; /* exit status so far */
+    size_t empty; /* frames with particles that gave no triangle */
 } run;
 
 static int is_gltf_family(int f)
@@ -252,7 +254,7 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
                           int shared, const job *jb, outcome *oc)
 {
     const seq_frame *f = jb->in;
-    char err[1024], msg[1400], b1[32], b2[32];
+    char err[1024], msg[1400], b1[32];
     memset(oc, 0, sizeof *oc);
     oc->rec.index = f->index;
     if (o->resume && platform_is_file(jb->out)) {
@@ -299,21 +301,13 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
             oc->retry = 1;
             return;
         }
-        if (ms == JM_E_TOO_LARGE && o->max_memory && est > o->max_memory)
-            snprintf(msg, sizeof msg,
-                     "%s: %zu particles need about %s of working memory, over the limit of %s: "
-                     "raise --max-memory",
-                     f->path, fr.count, platform_format_bytes(est, b1, sizeof b1),
-                     platform_format_bytes(o->max_memory, b2, sizeof b2));
+        if (ms == JM_E_TOO_LARGE)
+            /* names --cube-size when the machine itself could not hold it */
+            param_errors_too_large(msg, sizeof msg, f->path, &o->params, &parts, est, o->max_memory);
         else if (ms == JM_E_INVALID_PARTICLE) {
             snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
                      jm_status_message(ms));
             status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_TOO_LARGE) {
-            snprintf(msg, sizeof msg,
-                     "%s: %zu particles over a lattice far too fine for their spread "
-                     "(cube size %g r): use a larger --cube-size",
-                     f->path, fr.count, (double)o->params.cube_size > 0 ? (double)o->params.cube_size : 0.5);
         } else {
             snprintf(msg, sizeof msg, "%s: %s", f->path, jm_status_message(ms));
             if (ms == JM_E_INVALID_ARGUMENT)
@@ -403,6 +397,8 @@ static int report(run *r, const job *jb, outcome *oc)
             r->worst = oc->status;
         return -1;
     }
+    if (rec->particles > 0 && rec->triangles == 0 && r->empty++ == 0)
+        param_errors_warn_empty(rec->index, rec->input, rec->particles, &o->params);
     if (!o->quiet) {
         const jm_stats *st = &oc->st;
         progress_clear(&r->bar);
@@ -550,6 +546,9 @@ static void write_reports(run *r, double wall_ms)
 
 static void list_failures(const run *r)
 {
+    if (r->empty > 1)
+        fprintf(stderr, "jetmesh: warning: %zu frames with particles gave empty meshes (see the first above)\n",
+                r->empty);
     if (r->failed == 0)
         return;
     if (!r->o->keep_going) {
@@ -612,10 +611,11 @@ int cmd_convert(int argc, char **argv)
 
     jm_status cs = jm_context_create(&o.params, &r.ctx);
     if (cs != JM_OK) {
-        if (cs == JM_E_INVALID_ARGUMENT)
-            rc = options_usage_error("convert", "invalid meshing parameters: %s",
-                                     jm_status_message(cs));
-        else {
+        if (cs == JM_E_INVALID_ARGUMENT) {
+            if (param_errors_describe(&o.params, err, sizeof err) == 0)
+                snprintf(err, sizeof err, "invalid meshing parameters: %s", jm_status_message(cs));
+            rc = options_usage_error("convert", "%s", err);
+        } else {
             fprintf(stderr, "jetmesh convert: cannot create the meshing context: %s\n",
                     jm_status_message(cs));
             rc = EXIT_RESOURCE;
