@@ -16,6 +16,7 @@
 #include "platform.h"
 #include "progress.h"
 #include "sequence.h"
+#include "shard.h"
 #include "signals.h"
 #include "stale.h"
 #include "stats.h"
@@ -51,6 +52,7 @@ typedef struct run {
     size_t failed;
     int worst; /* exit status so far */
     size_t empty; /* frames with particles that gave no triangle */
+    size_t planned; /* frames of the whole run, all shards together */
 } run;
 
 static int is_gltf_family(int f)
@@ -138,6 +140,28 @@ static int plan_outputs(run *r)
         return options_usage_error("convert", "--embed applies to .gltf output, not %s",
                                    jmf_output_format_name((jmf_output_format)fmt));
     return EXIT_ALL_OK;
+}
+
+/* --shard: keeps this process's share of the planned frames (outputs and
+ * their collisions were decided over all of them, as a single run does, so
+ * every shard names the same files). */
+static void take_shard(run *r)
+{
+    size_t k = 0;
+    r->planned = r->njobs;
+    for (size_t i = 0; i < r->njobs; i++) {
+        if (shard_owns(&r->o->shard, i))
+            r->jobs[k++] = r->jobs[i];
+        else
+            free(r->jobs[i].out);
+    }
+    r->njobs = k;
+    if (!r->o->quiet && r->o->shard.count > 0) {
+        long i = r->o->shard.index, n = r->o->shard.count;
+        printf("shard %ld/%ld: %zu of the %zu frames (positions %ld, %ld, %ld... from 0)\n", i, n, k,
+               r->planned, i, i + n, i + 2 * n);
+        fflush(stdout);
+    }
 }
 
 static int cmp_str_ptr(const void *a, const void *b)
@@ -486,6 +510,8 @@ static void convert_all(run *r)
     size_t n = r->njobs, i = 0;
     int W = frame_jobs(r), stopped = 0;
     farm *fm = NULL;
+    if (n == 0) /* a shard with no frame */
+        return;
     r->oc = calloc(n, sizeof *r->oc);
     if (!r->oc) {
         fprintf(stderr, "jetmesh: out of memory\n");
@@ -608,6 +634,7 @@ int cmd_convert(int argc, char **argv)
     }
     if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
+    take_shard(&r);
 
     jm_status cs = jm_context_create(&o.params, &r.ctx);
     if (cs != JM_OK) {

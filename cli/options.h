@@ -10,6 +10,7 @@
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
 #include "sequence.h"
+#include "shard.h"
 
 /* What a parse function returns. */
 #define OPTIONS_RUN 0   /* go on */
@@ -31,6 +32,7 @@ typedef struct convert_options {
     int threshold_given;
     size_t max_memory;       /* bytes; 0 = no limit */
     int frame_jobs;          /* --frame-jobs: frames at once; 0 = auto */
+    shard_spec shard;        /* --shard I/N: this process's share (count 0: all) */
 } convert_options;
 
 /* The most frames converted at once (each may hold two finished outputs
