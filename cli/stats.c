@@ -243,6 +243,9 @@ static void write_csv(FILE *f, const stats_log *log, const stats_summary *s)
               f);
     fprintf(f, "# summary wall_seconds=%.3f\n# summary frames_per_second=%.3f\n", s->wall_seconds,
             s->frames_per_second);
+    if (s->shards) /* stats merge */
+        fprintf(f, "# summary shards=%zu\n# summary shards_wall_seconds=%.3f\n", s->shards,
+                s->shards_wall_seconds);
 }
 
 static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
@@ -277,8 +280,11 @@ static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
         fputs("\"ms_total_min\": null, \"ms_total_median\": null, \"ms_total_p95\": null, "
               "\"ms_total_max\": null, ",
               f);
-    fprintf(f, "\"wall_seconds\": %.3f, \"frames_per_second\": %.3f}\n}\n", s->wall_seconds,
+    fprintf(f, "\"wall_seconds\": %.3f, \"frames_per_second\": %.3f", s->wall_seconds,
             s->frames_per_second);
+    if (s->shards) /* stats merge */
+        fprintf(f, ", \"shards\": %zu, \"shards_wall_seconds\": %.3f", s->shards, s->shards_wall_seconds);
+    fputs("}\n}\n", f);
 }
 
 int stats_write(const char *path, const stats_log *log, const stats_summary *sum,

@@ -35,6 +35,11 @@ typedef struct stats_summary {
     double ms_min, ms_median, ms_p95, ms_max; /* of ms_total; 0 when ok == 0 */
     double wall_seconds;      /* the whole run */
     double frames_per_second; /* ok / wall_seconds */
+    /* `jetmesh stats merge` only (written when shards > 0): the files
+     * merged and the sum of their wall_seconds (wall_seconds is then the
+     * longest file's) */
+    size_t shards;
+    double shards_wall_seconds;
 } stats_summary;
 
 /** Appends a zeroed record for a frame (strings copied); NULL if out of memory. */
