@@ -281,6 +281,7 @@ static int read_csv(reader *r, stats_log *log, double *wall)
             continue;
         }
         if (!head) {
+            const char *hstart = r->p;
             if (csv_line(r, &head, &nh) != 0) {
                 rc = -1;
                 break;
@@ -291,7 +292,7 @@ static int read_csv(reader *r, stats_log *log, double *wall)
                 has_status |= strcmp(head[i], "status") == 0;
             }
             if (!has_index || !has_status)
-                rc = fail(r, "not a jetmesh statistics CSV (no index and status columns in its header)");
+                rc = (r->p = hstart, fail(r, "not a jetmesh statistics CSV (no index and status columns in its header)"));
             continue;
         }
         const char *start = r->p;
