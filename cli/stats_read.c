@@ -179,6 +179,7 @@ static int csv_field(reader *r, char **out)
     char *b = malloc(cap);
     if (!b)
         return fail(r, "out of memory");
+    const char *start = r->p;
     int quoted = r->p < r->end && *r->p == '"';
     if (quoted)
         r->p++;
@@ -186,6 +187,7 @@ static int csv_field(reader *r, char **out)
         if (r->p >= r->end) {
             if (quoted) {
                 free(b);
+                r->p = start;
                 return fail(r, "a quoted field does not end");
             }
             break;
