@@ -66,6 +66,8 @@ MUNGED=$!
 poll "munged's socket" 30 test -S "$T/munge/sock"
 
 HOST=$(hostname -s)
+CPUS=$(nproc 2>/dev/null || echo 1) # never more than the machine has: slurmd would drain the node
+[ "$CPUS" -gt 2 ] && CPUS=2
 export SLURM_CONF="$T/slurm.conf"
 start_slurm() { # writes the configuration with fresh ports, starts both daemons
     P1=$(free_port) && P2=$(free_port "$P1")
@@ -95,7 +97,7 @@ SlurmdLogFile=$T/log/slurmd.log
 ReturnToService=2
 KillWait=5
 MinJobAge=600
-NodeName=$HOST NodeAddr=127.0.0.1 CPUs=2 RealMemory=100 State=UNKNOWN
+NodeName=$HOST NodeAddr=127.0.0.1 CPUs=$CPUS RealMemory=100 State=UNKNOWN
 PartitionName=jetmesh Nodes=$HOST Default=YES MaxTime=INFINITE State=UP
 EOC
     slurmctld -D -i </dev/null >"$T/log/slurmctld.out" 2>&1 &
