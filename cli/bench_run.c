@@ -13,6 +13,7 @@
 
 #include "../formats/writer.h"
 #include "bench_options.h"
+#include "param_errors.h"
 #include "platform.h"
 #include "scenes.h"
 
@@ -138,7 +139,8 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
     c->rss_reset = reset_peak_rss();
     jm_status js = jm_context_create(&p, &ctx);
     if (js != JM_OK) {
-        snprintf(c->err, sizeof c->err, "jm_context_create: %s", jm_status_message(js));
+        if (js != JM_E_INVALID_ARGUMENT || param_errors_describe(&p, c->err, sizeof c->err) == 0)
+            snprintf(c->err, sizeof c->err, "jm_context_create: %s", jm_status_message(js));
         return;
     }
     jm_context_get_params(ctx, &c->params);

@@ -12,9 +12,11 @@
 #include "../lib/jetmesh.h"
 #include "farm.h"
 #include "options.h"
+#include "param_errors.h"
 #include "platform.h"
 #include "progress.h"
 #include "sequence.h"
+#include "shard.h"
 #include "signals.h"
 #include "stale.h"
 #include "stats.h"
@@ -51,6 +53,8 @@ typedef struct run {
     int worst; /* exit status so far */
     float neighbours;   /* jm_choose_field's measure on choice_frame; < 0: none */
     long choice_frame;
+    size_t empty; /* frames with particles that gave no triangle */
+    size_t planned; /* frames of the whole run, all shards together */
 } run;
 
 static int is_gltf_family(int f)
@@ -138,6 +142,28 @@ static int plan_outputs(run *r)
         return options_usage_error("convert", "--embed applies to .gltf output, not %s",
                                    jmf_output_format_name((jmf_output_format)fmt));
     return EXIT_ALL_OK;
+}
+
+/* --shard: keeps this process's share of the planned frames (outputs and
+ * their collisions were decided over all of them, as a single run does, so
+ * every shard names the same files). */
+static void take_shard(run *r)
+{
+    size_t k = 0;
+    r->planned = r->njobs;
+    for (size_t i = 0; i < r->njobs; i++) {
+        if (shard_owns(&r->o->shard, i))
+            r->jobs[k++] = r->jobs[i];
+        else
+            free(r->jobs[i].out);
+    }
+    r->njobs = k;
+    if (!r->o->quiet && r->o->shard.count > 0) {
+        long i = r->o->shard.index, n = r->o->shard.count;
+        printf("shard %ld/%ld: %zu of the %zu frames (positions %ld, %ld, %ld... from 0)\n", i, n, k,
+               r->planned, i, i + n, i + 2 * n);
+        fflush(stdout);
+    }
 }
 
 static int cmp_str_ptr(const void *a, const void *b)
@@ -309,7 +335,7 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
                           int shared, const job *jb, outcome *oc)
 {
     const seq_frame *f = jb->in;
-    char err[1024], msg[1400], b1[32], b2[32];
+    char err[1024], msg[1400], b1[32];
     memset(oc, 0, sizeof *oc);
     oc->rec.index = f->index;
     if (o->resume && platform_is_file(jb->out)) {
@@ -356,21 +382,13 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
             oc->retry = 1;
             return;
         }
-        if (ms == JM_E_TOO_LARGE && o->max_memory && est > o->max_memory)
-            snprintf(msg, sizeof msg,
-                     "%s: %zu particles need about %s of working memory, over the limit of %s: "
-                     "raise --max-memory",
-                     f->path, fr.count, platform_format_bytes(est, b1, sizeof b1),
-                     platform_format_bytes(o->max_memory, b2, sizeof b2));
+        if (ms == JM_E_TOO_LARGE)
+            /* names --cube-size when the machine itself could not hold it */
+            param_errors_too_large(msg, sizeof msg, f->path, &o->params, &parts, est, o->max_memory);
         else if (ms == JM_E_INVALID_PARTICLE) {
             snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
                      jm_status_message(ms));
             status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_TOO_LARGE) {
-            snprintf(msg, sizeof msg,
-                     "%s: %zu particles over a lattice far too fine for their spread "
-                     "(cube size %g r): use a larger --cube-size",
-                     f->path, fr.count, (double)o->params.cube_size > 0 ? (double)o->params.cube_size : 0.5);
         } else {
             snprintf(msg, sizeof msg, "%s: %s", f->path, jm_status_message(ms));
             if (ms == JM_E_INVALID_ARGUMENT)
@@ -460,6 +478,8 @@ static int report(run *r, const job *jb, outcome *oc)
             r->worst = oc->status;
         return -1;
     }
+    if (rec->particles > 0 && rec->triangles == 0 && r->empty++ == 0)
+        param_errors_warn_empty(rec->index, rec->input, rec->particles, &o->params);
     if (!o->quiet) {
         const jm_stats *st = &oc->st;
         progress_clear(&r->bar);
@@ -547,6 +567,8 @@ static void convert_all(run *r)
     size_t n = r->njobs, i = 0;
     int W = frame_jobs(r), stopped = 0;
     farm *fm = NULL;
+    if (n == 0) /* a shard with no frame */
+        return;
     r->oc = calloc(n, sizeof *r->oc);
     if (!r->oc) {
         fprintf(stderr, "jetmesh: out of memory\n");
@@ -615,6 +637,9 @@ static void write_reports(run *r, double wall_ms)
 
 static void list_failures(const run *r)
 {
+    if (r->empty > 1)
+        fprintf(stderr, "jetmesh: warning: %zu frames with particles gave empty meshes (see the first above)\n",
+                r->empty);
     if (r->failed == 0)
         return;
     if (!r->o->keep_going) {
@@ -676,13 +701,15 @@ int cmd_convert(int argc, char **argv)
     if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
     choose_field(&r);
+    take_shard(&r);
 
     jm_status cs = jm_context_create(&o.params, &r.ctx);
     if (cs != JM_OK) {
-        if (cs == JM_E_INVALID_ARGUMENT)
-            rc = options_usage_error("convert", "invalid meshing parameters: %s",
-                                     jm_status_message(cs));
-        else {
+        if (cs == JM_E_INVALID_ARGUMENT) {
+            if (param_errors_describe(&o.params, err, sizeof err) == 0)
+                snprintf(err, sizeof err, "invalid meshing parameters: %s", jm_status_message(cs));
+            rc = options_usage_error("convert", "%s", err);
+        } else {
             fprintf(stderr, "jetmesh convert: cannot create the meshing context: %s\n",
                     jm_status_message(cs));
             rc = EXIT_RESOURCE;

@@ -7,6 +7,7 @@
 #include "convert.h"
 #include "generate.h"
 #include "options.h"
+#include "stats_merge.h"
 
 static void usage(FILE *f)
 {
@@ -17,6 +18,7 @@ static void usage(FILE *f)
           "  convert [options] INPUT... -o OUTPUT   mesh particle frames\n"
           "  generate SCENE [N] -o OUTPUT           write a synthetic scene (jet, block N, spray N)\n"
           "  bench [options] [SCENE [N] | INPUT...] time the library\n"
+          "  stats merge STATS... -o OUT            one report from the --stats of shards\n"
           "  help [COMMAND]                         help on a command\n"
           "\n"
           "  jetmesh --help      this help\n"
@@ -37,6 +39,8 @@ static int help(const char *cmd)
         options_convert_help(stdout);
     else if (strcmp(cmd, "generate") == 0)
         options_generate_help(stdout);
+    else if (strcmp(cmd, "stats") == 0)
+        stats_merge_help(stdout);
     else if (strcmp(cmd, "bench") == 0) {
         char name[] = "bench", opt[] = "--help";
         char *args[] = {name, opt, NULL};
@@ -70,6 +74,8 @@ int main(int argc, char **argv)
         return cmd_generate(argc - 1, argv + 1);
     if (strcmp(cmd, "bench") == 0)
         return cmd_bench(argc - 1, argv + 1);
+    if (strcmp(cmd, "stats") == 0)
+        return cmd_stats(argc - 1, argv + 1);
     fprintf(stderr, "jetmesh: unknown command '%s'\nTry 'jetmesh --help' for more information.\n", cmd);
     return 2;
 }

@@ -116,6 +116,10 @@ void options_convert_help(FILE *f)
         "                              them (output identical); 0 = auto (default: as many\n"
         "                              as threads, at most 16), 1 = one at a time\n"
         "      --resume                skip frames whose output already exists\n"
+        "      --shard I/N             convert only share I (0 to N-1) of the frames: positions\n"
+        "                              I, I+N, I+2N... (N processes, e.g. a cluster's array\n"
+        "                              tasks, together convert every frame once); slurm:\n"
+        "                              I and N of this task of a Slurm job array\n"
         "      --stats FILE.csv|FILE.json  per-frame statistics and a summary\n"
         "      --stats-svg FILE.svg    stacked bar chart of time per frame by stage\n"
         "  -q, --quiet                 no per-frame lines, no progress bar\n"
@@ -155,7 +159,11 @@ enum {
     O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
 };
 
+/* options of the cluster block (see SHARDS in jetmesh(1)) */
+enum { O_SHARD = 400 };
+
 static const struct option convert_long[] = {
+    {"shard", required_argument, 0, O_SHARD},
     {"radius", required_argument, 0, 'r'},
     {"cube-size", required_argument, 0, 'c'},
     {"field", required_argument, 0, O_FIELD},
@@ -350,6 +358,12 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
             break;
         case O_KEEP: o->keep_going = 1; break;
         case O_RESUME: o->resume = 1; break;
+        case O_SHARD: {
+            char err[256];
+            if (shard_parse(optarg, &o->shard, err, sizeof err) != 0)
+                rc = options_usage_error(cmd, "%s", err);
+            break;
+        }
         case O_MAXMEM:
             if (options_parse_size(optarg, &o->max_memory) != 0)
                 rc = options_usage_error(cmd, "--max-memory must be a size like 2G or 500M, not '%s'",

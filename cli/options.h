@@ -10,6 +10,7 @@
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
 #include "sequence.h"
+#include "shard.h"
 
 /* What a parse function returns. */
 #define OPTIONS_RUN 0   /* go on */
@@ -33,6 +34,7 @@ typedef struct convert_options {
     int frame_jobs;          /* --frame-jobs: frames at once; 0 = auto */
     int field_auto;          /* --field auto (the default): chosen from the
                                 first frame by jm_choose_field */
+    shard_spec shard;        /* --shard I/N: this process's share (count 0: all) */
 } convert_options;
 
 /* The most frames converted at once (each may hold two finished outputs

@@ -249,6 +249,9 @@ static void write_csv(FILE *f, const stats_log *log, const stats_summary *s)
         if (s->neighbours >= 0)
             fprintf(f, "# summary neighbours=%.2f\n", s->neighbours);
     }
+    if (s->shards) /* stats merge */
+        fprintf(f, "# summary shards=%zu\n# summary shards_wall_seconds=%.3f\n", s->shards,
+                s->shards_wall_seconds);
 }
 
 static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
@@ -291,6 +294,8 @@ static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
         if (s->neighbours >= 0)
             fprintf(f, ", \"neighbours\": %.2f", s->neighbours);
     }
+    if (s->shards) /* stats merge */
+        fprintf(f, ", \"shards\": %zu, \"shards_wall_seconds\": %.3f", s->shards, s->shards_wall_seconds);
     fputs("}\n}\n", f);
 }
 

@@ -39,6 +39,11 @@ typedef struct stats_summary {
     const char *method;       /* "mt" or "mc" */
     const char *field_choice; /* "auto" (chosen from the first frame) or "given" */
     double neighbours;        /* the measure of the choice; < 0: not measured */
+    /* `jetmesh stats merge` only (written when shards > 0): the files
+     * merged and the sum of their wall_seconds (wall_seconds is then the
+     * longest file's) */
+    size_t shards;
+    double shards_wall_seconds;
 } stats_summary;
 
 /** Appends a zeroed record for a frame (strings copied); NULL if out of memory. */

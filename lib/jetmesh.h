@@ -296,6 +296,36 @@ jm_status jm_choose_field(const jm_params *params, const jm_particles *particles
 jm_status jm_field_eval(const jm_params *params, const jm_particles *particles,
                         const float p[3], float *out_value, float out_gradient[3]);
 
+/**
+ * Which member of jm_params jm_params_check() refused, and what it accepts,
+ * so that a caller can name its own option ("--cube-size") and the range.
+ */
+typedef struct jm_param_problem {
+    const char *field;    /**< the member's name as in jm_params ("cube_size",
+                               "threshold", ...); NULL for a NULL params */
+    double value;         /**< the value given (enums and ints as numbers) */
+    double min, max;      /**< the accepted range of the value given (0, the
+                               default, is also accepted where the member
+                               says so); +-HUGE_VAL when unbounded */
+    int min_excluded;     /**< 1: min itself is refused (radius > 0) */
+    int max_excluded;     /**< 1: max itself is refused */
+    const char *accepted; /**< the accepted values in words, static, never
+                               NULL on failure: "0.001 to 100 (times radius;
+                               0 = the default 0.5)" */
+} jm_param_problem;
+
+/**
+ * Checks every member of params against the ranges jm_context_create(),
+ * jm_context_set_params() and jm_field_eval() accept (they use this very
+ * function). JM_OK, or JM_E_INVALID_ARGUMENT with *out_problem (may be NULL)
+ * describing the first member out of range, in the order of the struct
+ * (radius first); on JM_OK *out_problem is zeroed. The threshold's range
+ * depends on the field: above -1 and below 1 for the metasphere, above 0
+ * (or 0, the default) for sph. Only the parameters are checked: a frame
+ * can still be refused later with JM_E_TOO_LARGE.
+ */
+jm_status jm_params_check(const jm_params *params, jm_param_problem *out_problem);
+
 #ifdef __cplusplus
 }
 #endif

@@ -18,33 +18,21 @@ const char *jm_status_message(jm_status status)
 
 const char *jm_version(void) { return JM_VERSION_STRING; }
 
-static int bad(float v) { return !isfinite(v) || v < 0.0f; }
-
 jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
 {
     if (!in) return JM_E_INVALID_ARGUMENT;
+    /* every range (and the member that leaves it) is in params_check.c */
+    if (jm_params_check(in, NULL) != JM_OK) return JM_E_INVALID_ARGUMENT;
     jm_params p = *in;
-    if (!isfinite(p.radius) || p.radius <= 0.0f) return JM_E_INVALID_ARGUMENT;
-    if (bad(p.cube_size) || bad(p.smoothing_length) || bad(p.link_distance) || bad(p.uv_scale) ||
-        !isfinite(p.threshold) || p.threads < 0 || p.uv_axis < 0 || p.uv_axis > 3)
-        return JM_E_INVALID_ARGUMENT;
     if (p.field == JM_FIELD_DEFAULT) p.field = JM_FIELD_METASPHERE;
     if (p.method == JM_METHOD_DEFAULT) p.method = JM_METHOD_MT;
     if (p.uv_mode == JM_UV_DEFAULT) p.uv_mode = JM_UV_BOX;
-    if (p.field != JM_FIELD_METASPHERE && p.field != JM_FIELD_SPH) return JM_E_INVALID_ARGUMENT;
-    if (p.method != JM_METHOD_MT && p.method != JM_METHOD_MC) return JM_E_INVALID_ARGUMENT;
-    if (p.uv_mode < JM_UV_BOX || p.uv_mode > JM_UV_NONE) return JM_E_INVALID_ARGUMENT;
     if (p.cube_size == 0.0f) p.cube_size = 0.5f;
     if (p.smoothing_length == 0.0f) p.smoothing_length = 2.0f;
     if (p.link_distance == 0.0f) p.link_distance = (float)M_PI;
     if (p.threshold == 0.0f && p.field == JM_FIELD_SPH) p.threshold = 0.6f;
     if (p.uv_scale == 0.0f) p.uv_scale = 16.0f * p.radius;
     if (p.uv_axis == 0) p.uv_axis = 3;
-    if (p.cube_size < 1e-3f || p.cube_size > 100.0f) return JM_E_INVALID_ARGUMENT;
-    if (p.smoothing_length < 0.05f || p.smoothing_length > 100.0f) return JM_E_INVALID_ARGUMENT;
-    if (p.field == JM_FIELD_SPH && (p.threshold <= 0.0f)) return JM_E_INVALID_ARGUMENT;
-    if (p.field == JM_FIELD_METASPHERE && (p.threshold <= -1.0f || p.threshold >= 1.0f))
-        return JM_E_INVALID_ARGUMENT;
 
     float r = p.radius;
     c->r = r;

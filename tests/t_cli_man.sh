@@ -20,6 +20,7 @@ done
 # every long option of the help texts appears in the rendered page
 "$J" convert --help >"$T/help" || fail "convert --help"
 "$J" generate --help >>"$T/help" || fail "generate --help"
+"$J" stats merge --help >>"$T/help" || fail "stats merge --help"
 if "$J" bench --help >"$T/bench" 2>/dev/null; then # the placeholder bench has no --help
     cat "$T/bench" >>"$T/help"
 else

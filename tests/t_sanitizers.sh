@@ -37,4 +37,19 @@ for kg in --keep-going ""; do
   [ "$st" = 1 ] || { echo "sanitizers: frames at once $kg: exit $st, not 1"; cat "$tmp/err"; status=1; }
   grep -q 'jet_096.csv:2' "$tmp/err" || { echo "sanitizers: frames at once: $(cat "$tmp/err")"; status=1; }
 done
+# shards and stats merge: the reports' readers (CSV quoting, JSON escapes,
+# malformed files) and the merge
+for i in 0 1; do
+  build-asan/jetmesh convert 'samples/jet/jet_%03d.csv' --frames 0:9 -r 0.025 -q -o "$tmp/sh/j_%03d.obj" \
+    --shard $i/2 --stats "$tmp/s$i.$([ $i = 0 ] && echo csv || echo json)" || { echo "sanitizers: shard $i"; status=1; }
+done
+build-asan/jetmesh stats merge "$tmp/s0.csv" "$tmp/s1.json" -o "$tmp/m.json" --svg "$tmp/m.svg" -q &&
+  build-asan/jetmesh stats merge "$tmp/m.json" -o "$tmp/m.csv" -q || { echo "sanitizers: stats merge"; status=1; }
+printf 'index,input,status,error\n3,"a,""b""\nc",failed,"x, y"\n4,"open\n' >"$tmp/w.csv"
+printf '{"frames":[{"index":1,"status":"ok","input":"\\ud83d\\ude00\\u00e9","x":[1,{"a":[]}]},{"index":2' >"$tmp/w.json"
+for w in w.csv w.json; do
+  st=0
+  build-asan/jetmesh stats merge "$tmp/$w" -o "$tmp/w.csv.out.csv" 2>"$tmp/err" || st=$?
+  [ "$st" = 1 ] || { echo "sanitizers: stats merge $w: exit $st, not 1"; cat "$tmp/err"; status=1; }
+done
 exit $status

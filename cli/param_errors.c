@@ -1,0 +1,116 @@
+/* param_errors.c - explains refused meshing parameters, oversized frames and empty meshes by the options that set them. */
+#include "param_errors.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "platform.h"
+
+static const struct {
+    const char *field, *option;
+} options[] = {
+    {"radius", "--radius"},
+    {"cube_size", "--cube-size"},
+    {"field", "--field"},
+    {"method", "--method"},
+    {"threshold", "--threshold"},
+    {"smoothing_length", "--smoothing-length"},
+    {"link_distance", "--link-distance"},
+    {"threads", "--threads"},
+    {"uv_mode", "--uv"},
+    {"uv_scale", "--uv-scale"},
+    {"uv_axis", "--uv-axis"},
+};
+
+const char *param_option_name(const char *field)
+{
+    if (!field)
+        return "the parameters";
+    for (size_t i = 0; i < sizeof options / sizeof options[0]; i++)
+        if (strcmp(options[i].field, field) == 0)
+            return options[i].option;
+    return field;
+}
+
+int param_errors_describe(const jm_params *p, char *msg, size_t len)
+{
+    jm_param_problem pr;
+    if (jm_params_check(p, &pr) == JM_OK)
+        return 0;
+    snprintf(msg, len, "%s %g is out of range; accepted: %s", param_option_name(pr.field), pr.value,
+             pr.accepted);
+    return -1;
+}
+
+static double cube_in_force(const jm_params *p)
+{
+    return p->cube_size > 0 ? (double)p->cube_size : 0.5;
+}
+
+/* The smallest cube size 2, 4, 8... times the current one (at most 100)
+ * whose estimate is at most limit (0: any the library accepts). 1 if found. */
+static int cube_that_fits(const jm_params *p, const jm_particles *parts, size_t limit, double *out_cube,
+                          size_t *out_bytes)
+{
+    for (double c = cube_in_force(p) * 2; c <= 100.0; c *= 2) {
+        jm_params q = *p;
+        q.cube_size = (float)c;
+        q.max_bytes = 0;
+        jm_context *ctx = NULL;
+        size_t est = 0;
+        int ok = jm_context_create(&q, &ctx) == JM_OK && jm_estimate_bytes(ctx, parts, &est) == JM_OK;
+        jm_context_free(ctx);
+        if (ok && (!limit || est <= limit)) {
+            *out_cube = c;
+            *out_bytes = est;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+void param_errors_too_large(char *msg, size_t len, const char *path, const jm_params *p,
+                            const jm_particles *parts, size_t est, size_t max_memory)
+{
+    char b1[32], b2[32], b3[32], hint[160] = "";
+    size_t phys = platform_physical_memory();
+    double cube = cube_in_force(p), fit = 0;
+    size_t fit_bytes = 0;
+    /* what must fit: the limit, and the machine whatever the limit */
+    size_t target = max_memory && (!phys || max_memory < phys) ? max_memory : phys;
+    if (cube_that_fits(p, parts, target, &fit, &fit_bytes))
+        snprintf(hint, sizeof hint, "; --cube-size %g would need about %s", fit,
+                 platform_format_bytes(fit_bytes, b3, sizeof b3));
+    if (est && phys && est > phys)
+        snprintf(msg, len,
+                 "%s: %zu particles need about %s of working memory at --cube-size %g, more than this "
+                 "machine has (%s): use a larger --cube-size%s",
+                 path, parts->count, platform_format_bytes(est, b1, sizeof b1), cube,
+                 platform_format_bytes(phys, b2, sizeof b2), hint);
+    else if (est && max_memory && est > max_memory)
+        snprintf(msg, len,
+                 "%s: %zu particles need about %s of working memory at --cube-size %g, over the limit "
+                 "of %s: raise --max-memory (this machine has %s) or use a larger --cube-size%s",
+                 path, parts->count, platform_format_bytes(est, b1, sizeof b1), cube,
+                 platform_format_bytes(max_memory, b2, sizeof b2),
+                 phys ? platform_format_bytes(phys, b3, sizeof b3) : "an unknown amount", hint);
+    else
+        snprintf(msg, len,
+                 "%s: %zu particles over a lattice far too fine for their spread (--cube-size %g): use "
+                 "a larger --cube-size%s",
+                 path, parts->count, cube, hint);
+}
+
+void param_errors_warn_empty(long index, const char *path, size_t particles, const jm_params *p)
+{
+    int sph = p->field == JM_FIELD_SPH;
+    double t = p->threshold != 0 ? (double)p->threshold : (sph ? 0.6 : 0.0);
+    fprintf(stderr,
+            "jetmesh: warning: frame %ld (%s): %zu particles gave an empty mesh: the field nowhere "
+            "reaches --threshold %g on the lattice (%s); a threshold nearer the default (%s) or a "
+            "smaller --cube-size (now %g) gives a surface\n",
+            index, path, particles, t, sph ? "sph: about 1 inside bulk fluid, less in thin sheets"
+                                           : "metasphere: 1 at a particle's centre",
+            sph ? "0.6" : "0", cube_in_force(p));
+}

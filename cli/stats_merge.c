@@ -1,0 +1,220 @@
+/* stats_merge.c - `jetmesh stats merge`: one report and one chart from the --stats files of a run's shards. */
+#include "stats_merge.h"
+
+#include <getopt.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../lib/jetmesh.h"
+#include "convert.h"
+#include "options.h"
+#include "platform.h"
+#include "sequence.h"
+#include "stats.h"
+#include "stats_read.h"
+
+void stats_merge_help(FILE *f)
+{
+    fputs("Usage: jetmesh stats merge STATS... -o OUT.csv|OUT.json [--svg OUT.svg]\n"
+          "Merges the --stats reports (CSV or JSON) of the shards of one run (convert\n"
+          "--shard I/N) into one report, rows in frame order, each frame once, and the\n"
+          "summary recomputed over all of them.\n"
+          "\n"
+          "A frame found in several files keeps one row: an ok row over a skipped one\n"
+          "(a --resume run found the output) over a failed one; between rows of the same\n"
+          "status, the file named later wins. A frame converted (ok) in two files is an\n"
+          "error: the shards overlap, or a run was repeated without --resume.\n"
+          "wall_seconds is the longest file's (the shards' run when they ran at once);\n"
+          "the summary adds shards and shards_wall_seconds, the sum of the files'.\n"
+          "\n"
+          "Options:\n"
+          "  -o, --output FILE           the merged report: .csv or .json\n"
+          "      --svg FILE.svg          the merged chart (as --stats-svg draws it)\n"
+          "  -q, --quiet                 no summary line\n"
+          "      --help                  this help\n"
+          "\n"
+          "Exit status: 0 merged, 1 a file unreadable or a frame converted twice, 2 usage\n"
+          "error, 3 out of memory. See SHARDS in jetmesh(1).\n",
+          f);
+}
+
+/* A row read, with the file it came from. */
+typedef struct row {
+    stats_record *rec;
+    size_t file;
+} row;
+
+static int rank(stats_status s)
+{
+    return s == STATS_OK ? 2 : s == STATS_SKIPPED ? 1 : 0;
+}
+
+static int cmp_row(const void *a, const void *b)
+{
+    const row *x = a, *y = b;
+    if (x->rec->index != y->rec->index)
+        return x->rec->index < y->rec->index ? -1 : 1;
+    int c = seq_natural_cmp(x->rec->input, y->rec->input);
+    if (c == 0)
+        c = strcmp(x->rec->input, y->rec->input);
+    if (c)
+        return c;
+    /* within a frame: file order, then the order in the file (stable) */
+    if (x->file != y->file)
+        return x->file < y->file ? -1 : 1;
+    return x->rec < y->rec ? -1 : x->rec > y->rec;
+}
+
+static int same_frame(const row *a, const row *b)
+{
+    return a->rec->index == b->rec->index && strcmp(a->rec->input, b->rec->input) == 0;
+}
+
+/* Copies rec into a new record of out. 0 or -1 (out of memory). */
+static int copy_record(stats_log *out, const stats_record *rec)
+{
+    stats_record *d = stats_add(out, rec->index, rec->input, rec->output);
+    if (!d)
+        return -1;
+    char *in = d->input, *o = d->output;
+    *d = *rec;
+    d->input = in;
+    d->output = o;
+    d->error = NULL;
+    if (rec->error) {
+        d->error = strdup(rec->error);
+        if (!d->error)
+            return -1;
+    }
+    return 0;
+}
+
+static const struct option merge_long[] = {
+    {"output", required_argument, 0, 'o'},
+    {"svg", required_argument, 0, 's'},
+    {"quiet", no_argument, 0, 'q'},
+    {"help", no_argument, 0, 'h'},
+    {0, 0, 0, 0},
+};
+
+static int merge(int argc, char **argv)
+{
+    const char *cmd = "stats merge", *out = NULL, *svg = NULL;
+    int quiet = 0, c;
+    optind = 0;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":o:q", merge_long, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case 's': svg = optarg; break;
+        case 'q': quiet = 1; break;
+        case 'h': stats_merge_help(stdout); return EXIT_ALL_OK;
+        case ':': return options_usage_error(cmd, "option '%s' needs a value", argv[optind - 1]);
+        default: return options_usage_error(cmd, "unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    size_t nfiles = (size_t)(argc - optind);
+    char **files = argv + optind;
+    if (nfiles == 0)
+        return options_usage_error(cmd, "no statistics files to merge");
+    if (!out)
+        return options_usage_error(cmd, "no output: give -o FILE.csv or FILE.json");
+    if (!stats_path_ok(out))
+        return options_usage_error(cmd, "-o FILE must end in .csv or .json, not '%s'", out);
+
+    stats_log in, merged;
+    memset(&in, 0, sizeof in);
+    memset(&merged, 0, sizeof merged);
+    size_t *first = calloc(nfiles + 1, sizeof *first); /* each file's first record */
+    row *rows = NULL;
+    double wall_max = 0, wall_sum = 0;
+    char err[1400];
+    int rc = EXIT_ALL_OK;
+    if (!first)
+        goto nomem;
+    for (size_t f = 0; f < nfiles; f++) {
+        double wall = 0;
+        first[f] = in.count;
+        if (stats_read(files[f], &in, &wall, err, sizeof err) != 0) {
+            fprintf(stderr, "jetmesh %s: %s\n", cmd, err);
+            rc = EXIT_SOME_FAILED;
+            goto done;
+        }
+        wall_sum += wall;
+        if (wall > wall_max)
+            wall_max = wall;
+    }
+    first[nfiles] = in.count;
+    rows = malloc((in.count ? in.count : 1) * sizeof *rows);
+    if (!rows)
+        goto nomem;
+    for (size_t f = 0, i = 0; f < nfiles; f++)
+        for (; i < first[f + 1]; i++)
+            rows[i] = (row){&in.items[i], f};
+    qsort(rows, in.count, sizeof *rows, cmp_row);
+    for (size_t i = 0; i < in.count;) {
+        size_t j = i + 1, best = i;
+        for (; j < in.count && same_frame(&rows[i], &rows[j]); j++) {
+            if (rows[j].rec->status == STATS_OK && rows[best].rec->status == STATS_OK) {
+                fprintf(stderr,
+                        "jetmesh %s: frame %ld (%s) was converted in both %s and %s: the shards overlap, "
+                        "or a run was repeated without --resume; merge only one of them\n",
+                        cmd, rows[j].rec->index, rows[j].rec->input, files[rows[best].file],
+                        files[rows[j].file]);
+                rc = EXIT_SOME_FAILED;
+                goto done;
+            }
+            if (rank(rows[j].rec->status) >= rank(rows[best].rec->status))
+                best = j; /* the later file wins a tie */
+        }
+        if (copy_record(&merged, rows[best].rec) != 0)
+            goto nomem;
+        i = j;
+    }
+    stats_summary sum;
+    stats_summarize(&merged, wall_max * 1000.0, &sum);
+    sum.shards = nfiles;
+    sum.shards_wall_seconds = wall_sum;
+    platform_make_dirs(out, 1); /* a failure shows when writing */
+    if (stats_write(out, &merged, &sum, err, sizeof err) != 0) {
+        fprintf(stderr, "jetmesh %s: cannot write the report: %s\n", cmd, err);
+        rc = EXIT_SOME_FAILED;
+        goto done;
+    }
+    if (svg) {
+        platform_make_dirs(svg, 1);
+        if (stats_write_svg(svg, &merged, &sum, err, sizeof err) != 0) {
+            fprintf(stderr, "jetmesh %s: cannot write the chart: %s\n", cmd, err);
+            rc = EXIT_SOME_FAILED;
+            goto done;
+        }
+    }
+    if (!quiet)
+        printf("merged %zu file%s: %zu frames (%zu ok, %zu failed, %zu skipped) -> %s%s%s\n", nfiles,
+               nfiles == 1 ? "" : "s", sum.frames, sum.ok, sum.failed, sum.skipped, out, svg ? ", " : "",
+               svg ? svg : "");
+    goto done;
+nomem:
+    fprintf(stderr, "jetmesh %s: out of memory\n", cmd);
+    rc = EXIT_RESOURCE;
+done:
+    free(rows);
+    free(first);
+    stats_free(&in);
+    stats_free(&merged);
+    return rc;
+}
+
+int cmd_stats(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "help") == 0) {
+        stats_merge_help(argc < 2 ? stderr : stdout);
+        return argc < 2 ? EXIT_USAGE : EXIT_ALL_OK;
+    }
+    if (strcmp(argv[1], "merge") == 0)
+        return merge(argc - 1, argv + 1);
+    fprintf(stderr, "jetmesh stats: unknown subcommand '%s': give merge\n"
+                    "Try 'jetmesh stats --help' for more information.\n",
+            argv[1]);
+    return EXIT_USAGE;
+}

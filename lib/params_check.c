@@ -1,0 +1,71 @@
+/* params_check.c - validates jm_params and names the member out of range with the values it accepts. */
+#include "internal.h"
+#include <limits.h>
+#include <math.h>
+#include <string.h>
+
+/* Fills the problem (when wanted) and returns JM_E_INVALID_ARGUMENT. */
+static jm_status refuse(jm_param_problem *out, const char *field, double value, double min, int min_excluded,
+                        double max, int max_excluded, const char *accepted)
+{
+    if (out) {
+        out->field = field;
+        out->value = value;
+        out->min = min;
+        out->min_excluded = min_excluded;
+        out->max = max;
+        out->max_excluded = max_excluded;
+        out->accepted = accepted;
+    }
+    return JM_E_INVALID_ARGUMENT;
+}
+
+/* 0 (the default) or a finite value from lo to hi. */
+static int in_range_or_zero(float v, float lo, float hi)
+{
+    return v == 0.0f || (isfinite(v) && v >= lo && v <= hi);
+}
+
+jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
+{
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!p)
+        return refuse(out, NULL, 0, 0, 0, 0, 0, "a jm_params (NULL given)");
+    if (!isfinite(p->radius) || p->radius <= 0.0f)
+        return refuse(out, "radius", p->radius, 0, 1, HUGE_VAL, 0, "a finite number above 0");
+    if (!in_range_or_zero(p->cube_size, 1e-3f, 100.0f))
+        return refuse(out, "cube_size", p->cube_size, 1e-3f, 0, 100.0f, 0,
+                      "0.001 to 100 (times radius; 0 = the default 0.5)");
+    if (p->field != JM_FIELD_DEFAULT && p->field != JM_FIELD_METASPHERE && p->field != JM_FIELD_SPH)
+        return refuse(out, "field", (double)p->field, JM_FIELD_DEFAULT, 0, JM_FIELD_SPH, 0,
+                      "JM_FIELD_DEFAULT, JM_FIELD_METASPHERE or JM_FIELD_SPH");
+    if (p->method != JM_METHOD_DEFAULT && p->method != JM_METHOD_MT && p->method != JM_METHOD_MC)
+        return refuse(out, "method", (double)p->method, JM_METHOD_DEFAULT, 0, JM_METHOD_MC, 0,
+                      "JM_METHOD_DEFAULT, JM_METHOD_MT or JM_METHOD_MC");
+    if (!isfinite(p->threshold))
+        return refuse(out, "threshold", p->threshold, -HUGE_VAL, 1, HUGE_VAL, 1, "a finite number");
+    if (p->field == JM_FIELD_SPH && p->threshold < 0.0f)
+        return refuse(out, "threshold", p->threshold, 0, 1, HUGE_VAL, 0,
+                      "above 0 for the sph field (0 = the default 0.6)");
+    if (p->field != JM_FIELD_SPH && (p->threshold <= -1.0f || p->threshold >= 1.0f))
+        return refuse(out, "threshold", p->threshold, -1, 1, 1, 1,
+                      "above -1 and below 1 for the metasphere field (default 0)");
+    if (!in_range_or_zero(p->smoothing_length, 0.05f, 100.0f))
+        return refuse(out, "smoothing_length", p->smoothing_length, 0.05f, 0, 100.0f, 0,
+                      "0.05 to 100 (times radius; 0 = the default 2)");
+    if (!isfinite(p->link_distance) || p->link_distance < 0.0f)
+        return refuse(out, "link_distance", p->link_distance, 0, 0, HUGE_VAL, 0,
+                      "a finite number from 0 (times radius; 0 = the default pi)");
+    if (p->threads < 0)
+        return refuse(out, "threads", p->threads, 0, 0, INT_MAX, 0, "0 (all cores) or more");
+    if (p->uv_mode < JM_UV_DEFAULT || p->uv_mode > JM_UV_NONE)
+        return refuse(out, "uv_mode", (double)p->uv_mode, JM_UV_DEFAULT, 0, JM_UV_NONE, 0,
+                      "JM_UV_DEFAULT, JM_UV_BOX, JM_UV_PLANAR, JM_UV_SPHERICAL or JM_UV_NONE");
+    if (!isfinite(p->uv_scale) || p->uv_scale < 0.0f)
+        return refuse(out, "uv_scale", p->uv_scale, 0, 0, HUGE_VAL, 0,
+                      "a finite number from 0 (world units; 0 = the default 16 radius)");
+    if (p->uv_axis < 0 || p->uv_axis > 3)
+        return refuse(out, "uv_axis", p->uv_axis, 0, 0, 3, 0, "0 (default z), 1 x, 2 y or 3 z");
+    return JM_OK;
+}
