@@ -132,17 +132,30 @@ static int merge(int argc, char **argv)
     int rc = EXIT_ALL_OK;
     if (!first)
         goto nomem;
+    stats_read_summary run0;
+    int same_field = 1;
     for (size_t f = 0; f < nfiles; f++) {
-        double wall = 0;
+        stats_read_summary rs;
         first[f] = in.count;
-        if (stats_read(files[f], &in, &wall, err, sizeof err) != 0) {
+        if (stats_read(files[f], &in, &rs, err, sizeof err) != 0) {
             fprintf(stderr, "jetmesh %s: %s\n", cmd, err);
             rc = EXIT_SOME_FAILED;
             goto done;
         }
+        double wall = rs.wall_seconds;
         wall_sum += wall;
         if (wall > wall_max)
             wall_max = wall;
+        /* the field of the run: kept when every file says the same */
+        if (f == 0)
+            run0 = rs;
+        else if (strcmp(rs.field, run0.field) != 0 || strcmp(rs.method, run0.method) != 0) {
+            if (same_field && !quiet)
+                fprintf(stderr, "jetmesh %s: warning: %s was meshed with field %s, method %s, but %s with %s, %s\n",
+                        cmd, files[0], run0.field[0] ? run0.field : "?", run0.method[0] ? run0.method : "?",
+                        files[f], rs.field[0] ? rs.field : "?", rs.method[0] ? rs.method : "?");
+            same_field = 0;
+        }
     }
     first[nfiles] = in.count;
     rows = malloc((in.count ? in.count : 1) * sizeof *rows);
@@ -175,6 +188,12 @@ static int merge(int argc, char **argv)
     stats_summarize(&merged, wall_max * 1000.0, &sum);
     sum.shards = nfiles;
     sum.shards_wall_seconds = wall_sum;
+    sum.neighbours = -1;
+    if (nfiles && same_field && run0.field[0] && run0.method[0]) {
+        sum.field = run0.field;
+        sum.method = run0.method;
+        sum.field_choice = run0.field_choice[0] ? run0.field_choice : "given";
+    }
     platform_make_dirs(out, 1); /* a failure shows when writing */
     if (stats_write(out, &merged, &sum, err, sizeof err) != 0) {
         fprintf(stderr, "jetmesh %s: cannot write the report: %s\n", cmd, err);

@@ -1,6 +1,8 @@
 /* stats_read.c - reads a --stats report (CSV or JSON) back into per-frame records. */
 #include "stats_read.h"
 
+#include <stddef.h>
+
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -263,7 +265,34 @@ static int csv_line(reader *r, char ***fields, size_t *n)
     }
 }
 
-static int read_csv(reader *r, stats_log *log, double *wall)
+/* a summary value into its place in sum; unknown keys are ignored */
+static void summary_value(stats_read_summary *sum, const char *key, size_t klen, const char *v, size_t vlen)
+{
+    static const struct {
+        const char *key;
+        size_t off, cap;
+    } strs[] = {
+        {"field", offsetof(stats_read_summary, field), sizeof ((stats_read_summary *)0)->field},
+        {"method", offsetof(stats_read_summary, method), sizeof ((stats_read_summary *)0)->method},
+        {"field_choice", offsetof(stats_read_summary, field_choice), sizeof ((stats_read_summary *)0)->field_choice},
+    };
+    if (klen == 12 && strncmp(key, "wall_seconds", 12) == 0) {
+        char b[64];
+        size_t n = vlen < sizeof b - 1 ? vlen : sizeof b - 1;
+        memcpy(b, v, n);
+        b[n] = '\0';
+        sum->wall_seconds = strtod(b, NULL);
+        return;
+    }
+    for (size_t i = 0; i < sizeof strs / sizeof *strs; i++)
+        if (strlen(strs[i].key) == klen && strncmp(key, strs[i].key, klen) == 0 && vlen < strs[i].cap) {
+            char *d = (char *)sum + strs[i].off;
+            memcpy(d, v, vlen);
+            d[vlen] = '\0';
+        }
+}
+
+static int read_csv(reader *r, stats_log *log, stats_read_summary *sum)
 {
     char **head = NULL, **row = NULL;
     size_t nh = 0, nr = 0;
@@ -272,9 +301,15 @@ static int read_csv(reader *r, stats_log *log, double *wall)
         if (*r->p == '#') { /* "# summary key=value" */
             const char *eol = memchr(r->p, '\n', (size_t)(r->end - r->p));
             const char *stop = eol ? eol : r->end;
-            static const char key[] = "# summary wall_seconds=";
-            if ((size_t)(stop - r->p) > sizeof key - 1 && strncmp(r->p, key, sizeof key - 1) == 0)
-                *wall = strtod(r->p + sizeof key - 1, NULL);
+            static const char key[] = "# summary ";
+            size_t len = (size_t)(stop - r->p);
+            if (len > 0 && r->p[len - 1] == '\r')
+                len--;
+            if (len > sizeof key - 1 && strncmp(r->p, key, sizeof key - 1) == 0) {
+                const char *k = r->p + sizeof key - 1, *eq = memchr(k, '=', len - (sizeof key - 1));
+                if (eq)
+                    summary_value(sum, k, (size_t)(eq - k), eq + 1, (size_t)(r->p + len - eq - 1));
+            }
             r->p = eol ? eol + 1 : r->end;
             continue;
         }
@@ -579,15 +614,15 @@ static int summary_member(reader *r, const char *key, void *user)
         return -1;
     if (cont)
         return json_skip_container(r, 1);
-    if (strcmp(key, "wall_seconds") == 0 && t)
-        *(double *)user = strtod(t, NULL);
+    if (t)
+        summary_value(user, key, strlen(key), t, strlen(t));
     free(t);
     return 0;
 }
 
 typedef struct top {
     stats_log *log;
-    double *wall;
+    stats_read_summary *sum;
     int frames_seen;
 } top;
 
@@ -595,7 +630,7 @@ static int top_member(reader *r, const char *key, void *user)
 {
     top *t = user;
     if (strcmp(key, "summary") == 0)
-        return json_members(r, summary_member, t->wall);
+        return json_members(r, summary_member, t->sum);
     if (strcmp(key, "frames") != 0)
         return json_skip(r, 1);
     t->frames_seen = 1;
@@ -625,9 +660,9 @@ static int top_member(reader *r, const char *key, void *user)
     }
 }
 
-static int read_json(reader *r, stats_log *log, double *wall)
+static int read_json(reader *r, stats_log *log, stats_read_summary *sum)
 {
-    top t = {log, wall, 0};
+    top t = {log, sum, 0};
     if (json_members(r, top_member, &t) != 0)
         return -1;
     if (!t.frames_seen)
@@ -635,17 +670,17 @@ static int read_json(reader *r, stats_log *log, double *wall)
     return 0;
 }
 
-int stats_read(const char *path, stats_log *log, double *wall_seconds, char *err, size_t errlen)
+int stats_read(const char *path, stats_log *log, stats_read_summary *sum, char *err, size_t errlen)
 {
     size_t len = 0;
     char *text = slurp(path, &len, err, errlen);
     if (!text)
         return -1;
     reader r = {path, text, text + len, text, err, errlen};
-    *wall_seconds = 0;
+    memset(sum, 0, sizeof *sum);
     ws(&r);
     size_t before = log->count;
-    int rc = r.p < r.end && *r.p == '{' ? read_json(&r, log, wall_seconds) : (r.p = text, read_csv(&r, log, wall_seconds));
+    int rc = r.p < r.end && *r.p == '{' ? read_json(&r, log, sum) : (r.p = text, read_csv(&r, log, sum));
     if (rc != 0) { /* drop this file's records */
         stats_log tail = {log->items + before, log->count - before, 0};
         for (size_t i = 0; i < tail.count; i++) {

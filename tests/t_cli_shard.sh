@@ -26,7 +26,7 @@ run 0 stats merge "$T/st_2.csv" "$T/st_0.csv" "$T/st_1.json" -o "$T/all.csv" --s
 grep -q "^merged 3 files: 100 frames (100 ok, 0 failed, 0 skipped)" "$T/out" || { cat "$T/out"; fail "merge line"; }
 grep -v '^#' "$T/all.csv" | tail -n +2 | cut -d, -f1 >"$T/idx"
 seq 0 99 | cmp -s - "$T/idx" || fail "merged rows are not frames 0..99 once, in order"
-for k in frames=100 ok=100 failed=0 skipped=0 shards=3; do
+for k in frames=100 ok=100 failed=0 skipped=0 shards=3 field=metasphere method=mt field_choice=auto; do
     grep -q "^# summary $k\$" "$T/all.csv" || fail "merged summary lacks $k"
 done
 # the summary's times are recomputed over all frames: the same as one run's
@@ -42,6 +42,13 @@ grep -q "100 frames" "$T/all.svg" || fail "chart does not cover 100 frames"
 run 0 stats merge "$T/all.csv" -o "$T/all.json" -q
 run 0 stats merge "$T/all.json" -o "$T/again.csv" -q
 [ "$(grep -c ',ok,' "$T/again.csv")" = 100 ] || fail "JSON round trip"
+grep -q '^# summary field=metasphere$' "$T/again.csv" || fail "the field lost through JSON"
+# shards meshed with different fields: said, and no field in the merge
+sed 's/^# summary field=metasphere$/# summary field=sph/' "$T/st_0.csv" >"$T/other_0.csv"
+run 0 stats merge "$T/other_0.csv" "$T/st_1.json" "$T/st_2.csv" -o "$T/mixed.csv"
+grep -q "warning: .* was meshed with field sph, method mt, but .* with metasphere, mt" "$T/err" ||
+    { cat "$T/err"; fail "no warning for shards of different fields"; }
+if grep -q '^# summary field=' "$T/mixed.csv"; then fail "a field written for mixed shards"; fi
 
 # a frame ok in two files: an error naming both
 run 1 stats merge "$T/st_0.csv" "$T/st_0.csv" -o "$T/dup.csv"
