@@ -3,6 +3,7 @@
 #include "options.h"
 
 #include <errno.h>
+#include <float.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdarg.h>
@@ -220,6 +221,8 @@ static int positive(const char *cmd, const char *name, const char *arg, float *o
     double v;
     if (cli_parse_double(arg, &v) != 0 || !(v > 0) || v > 1e30)
         return options_usage_error(cmd, "%s must be a number above 0, not '%s'", name, arg);
+    if ((float)v < FLT_MIN) /* 0 would mean "the default"; subnormals lose their digits */
+        return options_usage_error(cmd, "%s %s is too small: the smallest is %g", name, arg, (double)FLT_MIN);
     *out = (float)v;
     return OPTIONS_RUN;
 }
@@ -277,6 +280,9 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_THRESHOLD:
             if (cli_parse_double(optarg, &d) != 0)
                 rc = options_usage_error(cmd, "--threshold must be a number, not '%s'", optarg);
+            if (d != 0.0 && fabs(d) < FLT_MIN)
+                rc = options_usage_error(cmd, "--threshold %s is too small: 0 or at least %g in size", optarg,
+                                         (double)FLT_MIN);
             o->params.threshold = (float)d;
             o->threshold_given = 1;
             break;

@@ -53,6 +53,12 @@ run 0 convert "$S/jet_05{}.csv" -r 0.025 --field sph --threshold 5 -q -o "$T/e_{
 grep -q "warning: frame 0 (.*jet_050.csv): 64 particles gave an empty mesh.*--threshold 5" "$T/err" || { cat "$T/err"; fail "no empty-mesh warning"; }
 [ "$(grep -c 'gave an empty mesh' "$T/err")" = 1 ] || { cat "$T/err"; fail "one detailed warning expected"; }
 grep -q "warning: 10 frames with particles gave empty meshes" "$T/err" || { cat "$T/err"; fail "no count of empty meshes"; }
+# values too small for a float became 0, which means "the default": refused
+for a in "-c 1e-50" "-r 1e-40" "--field sph --threshold 1e-50"; do
+    # shellcheck disable=SC2086
+    run 2 convert "$F" -r 0.025 $a -o "$T/tiny.obj"
+    grep -q "is too small" "$T/err" || { cat "$T/err"; fail "$a: not refused as too small"; }
+done
 # no warning for a normal conversion
 run 0 convert "$F" -r 0.025 -q -o "$T/n.obj"
 [ ! -s "$T/err" ] || { cat "$T/err"; fail "unexpected warning"; }
