@@ -550,7 +550,11 @@ int seq_expand(char *const *inputs, size_t n, const seq_range *range,
                 return -1;
             }
             if ((range->end - range->start) / range->step >= SEQ_MAX_FRAMES) {
-                seq_err(err, errlen, "'%s': the range names more than %d frames", in, SEQ_MAX_FRAMES);
+                seq_err(err, errlen,
+                        "'%s': --frames %ld:%ld:%ld names %ld frames, more than the %d one run plans: "
+                        "split the range over several runs (--frames) or shards (--shard)",
+                        in, range->start, range->end, range->step,
+                        (range->end - range->start) / range->step + 1, SEQ_MAX_FRAMES);
                 return -1;
             }
             for (long f = range->start; f <= range->end; f += range->step) {

@@ -31,8 +31,10 @@
  * directory output gets DIR/<input name without extension>.<ext>.
  */
 
-/* The most frames a printf pattern with --frames may name. */
-#define SEQ_MAX_FRAMES 10000000
+/* The most frames one run may plan (about 600 bytes each while it runs):
+ * a printf pattern with --frames may name no more, nor may all inputs
+ * together. Longer simulations are split with --frames ranges or --shard. */
+#define SEQ_MAX_FRAMES 1000000
 
 typedef struct seq_range {
     long start, end, step; /* end inclusive, step >= 1 */
