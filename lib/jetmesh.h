@@ -148,6 +148,9 @@ typedef enum jm_uv_mode {
     JM_UV_NONE         /**< no texture coordinates (mesh.uvs = NULL) */
 } jm_uv_mode;
 
+/** The most worker threads a context starts (jm_params.threads above it is capped). */
+#define JM_MAX_THREADS 256
+
 /** Parameters. Zero in any field means its default. */
 typedef struct jm_params {
     float radius;           /**< particle radius r, world units; required > 0 */
@@ -158,7 +161,8 @@ typedef struct jm_params {
     float smoothing_length; /**< sph: h relative to r; default 2 (support 4r) */
     float link_distance;    /**< metasphere: neck link distance relative to r;
                                  default pi */
-    int threads;            /**< worker threads; 0 = all cores */
+    int threads;            /**< worker threads; 0 = all cores; at most
+                                 JM_MAX_THREADS (more are capped there) */
     jm_uv_mode uv_mode;     /**< default JM_UV_BOX */
     float uv_scale;         /**< world units per texture repeat; default 16r */
     int uv_axis;            /**< JM_UV_PLANAR projection axis: 1 x, 2 y,

@@ -2,6 +2,7 @@
 #include "block.h"
 #include "cavities.h"
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -33,7 +34,7 @@ struct jm_context {
 static int cpu_count(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);
-    return n < 1 ? 1 : (n > 256 ? 256 : (int)n);
+    return n < 1 ? 1 : (n > JM_MAX_THREADS ? JM_MAX_THREADS : (int)n);
 }
 
 static void drop_template(jm_context *ctx)
@@ -66,7 +67,7 @@ jm_status jm_context_set_params(jm_context *ctx, const jm_params *params)
     jm_status st = jm_config_resolve(params, &c, &filled);
     if (st != JM_OK) return st;
     int threads = filled.threads ? filled.threads : cpu_count();
-    if (threads > 256) threads = 256;
+    if (threads > JM_MAX_THREADS) threads = JM_MAX_THREADS;
     filled.threads = threads;
     if (!ctx->pool || threads != ctx->threads) {
         jm_pool *pool = NULL;
@@ -167,7 +168,7 @@ typedef struct frame_job {
     size_t *slot_vbase, *slot_ibase, *slot_pbase;
     uint32_t *pend;        /* global pending pairs */
     size_t npend, cappend;
-    int failed;            /* 1 memory, 2 internal */
+    atomic_int failed;     /* 1 memory, 2 internal; set by any worker */
     uint32_t *iso;         /* sorted indices of isolated particles */
     size_t tmpl_v0, tmpl_i0;
 } frame_job;
@@ -332,11 +333,13 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
     const double BW = (double)c->block * c->h;
     const float infl = c->influence;
     double box = 1.0;
+    int64_t span[3];
     for (int a = 0; a < 3; a++) {
         bs->origin[a] = (int64_t)floor((g->lo[a] - infl) / BW) - 2;
         int64_t top = (int64_t)floor((g->hi[a] + infl) / BW) + 2;
         if (top - bs->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
-        box *= (double)(top - bs->origin[a] + 1);
+        span[a] = top - bs->origin[a];
+        box *= (double)(span[a] + 1);
     }
     /* before inserting anything: an upper bound of the blocks, refused when
      * absurd or when its memory estimate is over the limit */
@@ -366,6 +369,7 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
             lo[a] = (int64_t)floor((cl - infl) / BW) - bs->origin[a];
             hi[a] = (int64_t)floor((cl + g->cell + infl) / BW) - bs->origin[a];
             if (lo[a] < 0) lo[a] = 0;
+            if (hi[a] > span[a]) hi[a] = span[a]; /* keys stay within their bits */
         }
         for (int64_t z = lo[2]; z <= hi[2]; z++)
             for (int64_t y = lo[1]; y <= hi[1]; y++)
@@ -675,10 +679,13 @@ jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size
     double BW = (double)c->block * c->h;
     double per = ceil(2.0 * c->influence / BW) + 1;
     double blocks = (double)n * per * per * per;
+    size_t stride = particles->stride ? particles->stride : 12;
+    if (stride < 12) return JM_E_INVALID_ARGUMENT; /* as jm_mesh_particles */
     if (n) {
-        size_t stride = particles->stride ? particles->stride : 12;
         float lo[3], hi[3];
         memcpy(lo, particles->xyz, sizeof lo);
+        for (int a = 0; a < 3; a++)
+            if (!isfinite(lo[a])) return JM_E_INVALID_PARTICLE;
         memcpy(hi, lo, sizeof hi);
         for (size_t i = 1; i < n; i++) {
             float p[3];
