@@ -2,6 +2,8 @@
 #include "convert.h"
 
 #include <errno.h>
+#include <unistd.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -166,62 +168,190 @@ static void take_shard(run *r)
     }
 }
 
-static int cmp_str_ptr(const void *a, const void *b)
+/* path with its directory resolved (symbolic links, "..", "./"), so that
+ * two spellings of one file compare equal; a copy of path when the
+ * directory does not exist yet. NULL when out of memory. */
+static char *canonical(const char *path)
 {
-    return strcmp(*(char *const *)a, *(char *const *)b);
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, (size_t)(slash - path) + (slash == path)) : strdup(".");
+    if (!dir)
+        return NULL;
+    char *real = realpath(dir, NULL);
+    free(dir);
+    if (!real)
+        return strdup(path);
+    const char *base = slash ? slash + 1 : path;
+    size_t n = strlen(real) + strlen(base) + 2;
+    char *c = malloc(n);
+    if (c)
+        snprintf(c, n, "%s/%s", strcmp(real, "/") == 0 ? "" : real, base);
+    free(real);
+    return c;
 }
 
-/* Refuses two frames writing one file, and any output that is an input. */
+typedef struct out_name {
+    char *canon;
+    const char *given; /* for messages */
+    const char *what;  /* "frame 12", "--stats", ... */
+} out_name;
+
+static int cmp_out_name(const void *a, const void *b)
+{
+    return strcmp(((const out_name *)a)->canon, ((const out_name *)b)->canon);
+}
+
+/* Refuses two outputs of the run that are one file (two frames, a mesh and
+ * the statistics or the chart, a .gltf's .bin and another output), and any
+ * output that is an input. */
 static int check_outputs(run *r)
 {
-    size_t n = r->njobs;
-    char **outs = malloc(n * sizeof *outs);
-    if (!outs) {
-        fprintf(stderr, "jetmesh convert: out of memory\n");
-        return EXIT_RESOURCE;
-    }
-    for (size_t i = 0; i < n; i++)
-        outs[i] = r->jobs[i].out;
-    qsort(outs, n, sizeof *outs, cmp_str_ptr);
-    for (size_t i = 1; i < n; i++) {
-        if (strcmp(outs[i - 1], outs[i]) == 0) {
-            int rc = options_usage_error("convert",
-                                         "two frames would write %s: use a template with {} in -o",
-                                         outs[i]);
-            free(outs);
-            return rc;
+    size_t n = r->njobs, m = 0;
+    out_name *names = calloc(2 * n + 2, sizeof *names);
+    char (*what)[48] = calloc(2 * n + 2, sizeof *what);
+    char **bins = calloc(n + 1, sizeof *bins);
+    int rc = EXIT_ALL_OK;
+    if (!names || !what || !bins)
+        goto nomem;
+    for (size_t i = 0; i < n; i++) {
+        const char *out = r->jobs[i].out;
+        snprintf(what[m], sizeof what[m], "the output of frame %ld", r->jobs[i].in->index);
+        names[m] = (out_name){canonical(out), out, what[m]};
+        if (!names[m++].canon)
+            goto nomem;
+        size_t len = strlen(out);
+        if (r->o->write.format == JMF_OUT_GLTF && !r->o->write.embed && len > 5 &&
+            strcmp(out + len - 5, ".gltf") == 0) {
+            bins[i] = malloc(len);
+            if (!bins[i])
+                goto nomem;
+            memcpy(bins[i], out, len - 5);
+            memcpy(bins[i] + len - 5, ".bin", 5);
+            snprintf(what[m], sizeof what[m], "the .bin of frame %ld", r->jobs[i].in->index);
+            names[m] = (out_name){canonical(bins[i]), bins[i], what[m]};
+            if (!names[m++].canon)
+                goto nomem;
         }
     }
-    free(outs);
+    const char *extra[2] = {r->o->stats_path, r->o->stats_svg};
+    const char *extra_what[2] = {"--stats", "--stats-svg"};
+    for (int k = 0; k < 2; k++)
+        if (extra[k]) {
+            names[m] = (out_name){canonical(extra[k]), extra[k], extra_what[k]};
+            if (!names[m++].canon)
+                goto nomem;
+        }
+    qsort(names, m, sizeof *names, cmp_out_name);
+    for (size_t i = 1; i < m && rc == EXIT_ALL_OK; i++)
+        if (strcmp(names[i - 1].canon, names[i].canon) == 0) {
+            if (strncmp(names[i - 1].what, "the output of frame", 19) == 0 &&
+                strncmp(names[i].what, "the output of frame", 19) == 0)
+                rc = options_usage_error("convert", "two frames would write %s: use a template with {} in -o",
+                                         names[i].given);
+            else
+                rc = options_usage_error("convert", "%s and %s would both write %s: give them different names",
+                                         names[i - 1].what, names[i].what, names[i].given);
+        }
+    if (rc != EXIT_ALL_OK)
+        goto out;
 
-    struct stat *ins = malloc(n * sizeof *ins);
-    char *have = calloc(n, 1);
+    /* no output is an input (the same file, however it is spelled) */
+    struct stat *ins = malloc((n ? n : 1) * sizeof *ins);
+    char *have = calloc(n ? n : 1, 1);
     if (!ins || !have) {
         free(ins);
         free(have);
-        fprintf(stderr, "jetmesh convert: out of memory\n");
-        return EXIT_RESOURCE;
+        goto nomem;
     }
     for (size_t i = 0; i < n; i++)
         have[i] = stat(r->jobs[i].in->path, &ins[i]) == 0;
-    const char *extra[2] = {r->o->stats_path, r->o->stats_svg};
-    int rc = EXIT_ALL_OK;
-    for (size_t i = 0; i < n + 2 && rc == EXIT_ALL_OK; i++) {
-        const char *out = i < n ? r->jobs[i].out : extra[i - n];
+    for (size_t i = 0; i < m && rc == EXIT_ALL_OK; i++) {
         struct stat st;
-        if (!out || stat(out, &st) != 0)
+        if (stat(names[i].given, &st) != 0)
             continue;
         for (size_t j = 0; j < n; j++) {
             if (have[j] && ins[j].st_dev == st.st_dev && ins[j].st_ino == st.st_ino) {
                 rc = options_usage_error("convert", "refusing to overwrite the input file %s (with %s)",
-                                         r->jobs[j].in->path, out);
+                                         r->jobs[j].in->path, names[i].given);
                 break;
             }
         }
     }
     free(ins);
     free(have);
+    goto out;
+nomem:
+    fprintf(stderr, "jetmesh convert: out of memory\n");
+    rc = EXIT_RESOURCE;
+out:
+    for (size_t i = 0; names && i < m; i++)
+        free(names[i].canon);
+    for (size_t i = 0; bins && i < n; i++)
+        free(bins[i]);
+    free(names);
+    free(what);
+    free(bins);
     return rc;
+}
+
+/* Before any frame is meshed: every directory the run writes into can be
+ * made and written (a file is created there and removed), so a run into a
+ * read-only place fails at once instead of meshing every frame and
+ * throwing each away. */
+static int check_writable(run *r)
+{
+    const char *last = NULL;
+    size_t lastlen = 0;
+    for (size_t i = 0; i < r->njobs + 2; i++) {
+        const char *out = i < r->njobs ? r->jobs[i].out : (i == r->njobs ? r->o->stats_path : r->o->stats_svg);
+        if (!out)
+            continue;
+        const char *slash = strrchr(out, '/');
+        size_t dl = slash ? (size_t)(slash - out) : 0;
+        if (last && dl == lastlen && strncmp(out, last, dl) == 0)
+            continue; /* the same directory as the previous output */
+        last = out;
+        lastlen = dl;
+        struct stat st;
+        if (stat(out, &st) == 0 && !S_ISREG(st.st_mode))
+            continue; /* a device or FIFO is written in place */
+        if (platform_make_dirs(out, 1) != 0) {
+            fprintf(stderr, "jetmesh convert: cannot create the directory of %s: %s\n", out, strerror(errno));
+            return EXIT_SOME_FAILED;
+        }
+        char probe[4200];
+        snprintf(probe, sizeof probe, "%.*s%s.jetmesh-probe-%ld", (int)dl, out, dl ? "/" : "", (long)getpid());
+        int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+        if (fd < 0 && errno != EEXIST) {
+            fprintf(stderr, "jetmesh convert: cannot write in the directory of %s: %s\n", out, strerror(errno));
+            return EXIT_SOME_FAILED;
+        }
+        if (fd >= 0) {
+            close(fd);
+            unlink(probe);
+        }
+    }
+    return EXIT_ALL_OK;
+}
+
+/* Writes s for a one-line report: control characters (a newline in a file
+ * name) as C escapes, so that every report stays one line per frame. */
+static void print_path(FILE *f, const char *s)
+{
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        if (*p == '\n')
+            fputs("\\n", f);
+        else if (*p == '\t')
+            fputs("\\t", f);
+        else if (*p == '\r')
+            fputs("\\r", f);
+        else if (*p < 0x20 || *p == 0x7f)
+            fprintf(f, "\\x%02x", *p);
+        else if (*p == '\\')
+            fputs("\\\\", f);
+        else
+            fputc(*p, f);
+    }
 }
 
 static const char *field_name(jm_field f)
@@ -240,6 +370,7 @@ static const char *uv_name(jm_uv_mode m)
 }
 
 static int frame_jobs(const run *r);
+static int total_threads(const run *r);
 
 /* "auto" or "given", and the field/method names, for the reports */
 static const char *choice_name(const run *r)
@@ -308,8 +439,11 @@ static void print_params(const run *r)
         printf("smoothing length %g r, ", (double)p.smoothing_length);
     else
         printf("link distance %g r, ", (double)p.link_distance);
-    printf("threads %d, frames at once %d, uv %s, normals %s, max memory %s; output %s%s\n",
-           p.threads ? p.threads : platform_cores(), frame_jobs(r), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
+    if (r->o->params.threads > JM_MAX_THREADS)
+        printf("threads %d (-j %d capped at %d), ", total_threads(r), r->o->params.threads, JM_MAX_THREADS);
+    else
+        printf("threads %d, ", total_threads(r));
+    printf("frames at once %d, uv %s, normals %s, max memory %s; output %s%s\n", frame_jobs(r), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
            p.max_bytes ? platform_format_bytes(p.max_bytes, mem, sizeof mem) : "no limit",
            jmf_output_format_name(r->o->write.format), r->o->write.draco ? " with Draco" : "");
     fflush(stdout);
@@ -464,7 +598,11 @@ static int report(run *r, const job *jb, outcome *oc)
     if (rec->status == STATS_SKIPPED) {
         if (!o->quiet) {
             progress_clear(&r->bar);
-            printf("frame %ld %s: skipped, %s exists (--resume)\n", rec->index, rec->input, rec->output);
+            printf("frame %ld ", rec->index);
+            print_path(stdout, rec->input);
+            printf(": skipped, ");
+            print_path(stdout, rec->output);
+            printf(" exists (--resume)\n");
             fflush(stdout);
         }
         return 0;
@@ -483,11 +621,14 @@ static int report(run *r, const job *jb, outcome *oc)
     if (!o->quiet) {
         const jm_stats *st = &oc->st;
         progress_clear(&r->bar);
-        printf("frame %ld %s: %zu particles", rec->index, rec->input, rec->particles);
+        printf("frame %ld ", rec->index);
+        print_path(stdout, rec->input);
+        printf(": %zu particles", rec->particles);
         if (rec->dropped)
             printf(" (%zu dropped)", rec->dropped);
-        printf(", %zu vertices, %zu triangles, %.2f ms -> %s\n", rec->vertices, rec->triangles,
-               rec->ms_total, rec->output);
+        printf(", %zu vertices, %zu triangles, %.2f ms -> ", rec->vertices, rec->triangles, rec->ms_total);
+        print_path(stdout, rec->output);
+        putchar('\n');
         if (o->verbose)
             printf("  read %.2f ms, field %.2f ms, extract %.2f ms, attributes %.2f ms, write %.2f ms; "
                    "%zu isolated, %zu blocks, %zu cells, %zu cavities removed, %d threads, library peak %s, "
@@ -510,13 +651,16 @@ static void discard(outcome *oc)
     oc->rec.error = NULL;
 }
 
-/* The frames at once: --frame-jobs, or as many as threads (at most
- * CONVERT_MAX_FRAME_JOBS), never more than frames. */
+/* The threads of the run, all frames at once together: -j (at most
+ * JM_MAX_THREADS, what one context starts) or the cores. */
 static int total_threads(const run *r)
 {
-    return r->o->params.threads ? r->o->params.threads : platform_cores();
+    int t = r->o->params.threads ? r->o->params.threads : platform_cores();
+    return t > JM_MAX_THREADS ? JM_MAX_THREADS : t;
 }
 
+/* The frames at once: --frame-jobs, or as many as threads (at most
+ * CONVERT_MAX_FRAME_JOBS), never more than frames. */
 static int frame_jobs(const run *r)
 {
     int w = r->o->frame_jobs ? r->o->frame_jobs : total_threads(r);
@@ -542,11 +686,15 @@ static int make_workers(run *r, int W)
     int threads = total_threads(r);
     jm_params p = r->o->params;
     p.threads = threads / W > 0 ? threads / W : 1;
+    /* a share of 0 would read as "no limit": at least one byte */
+    size_t share = r->o->max_memory / (size_t)W;
+    if (r->o->max_memory && share == 0)
+        share = 1;
     if (r->o->max_memory)
-        p.max_bytes = r->o->max_memory / (size_t)W;
+        p.max_bytes = share;
     r->wread = r->o->read;
     if (r->o->max_memory)
-        r->wread.max_bytes = r->o->max_memory / (size_t)W;
+        r->wread.max_bytes = share;
     r->wctx = calloc((size_t)W, sizeof *r->wctx);
     if (!r->wctx)
         return 0;
@@ -555,6 +703,29 @@ static int make_workers(run *r, int W)
         if (jm_context_create(&p, &r->wctx[w]) != JM_OK)
             return 0;
     return 1;
+}
+
+static void free_workers(run *r)
+{
+    for (int w = 0; w < r->nwctx; w++)
+        jm_context_free(r->wctx[w]);
+    free(r->wctx);
+    r->wctx = NULL;
+    r->nwctx = 0;
+}
+
+/* The main context with every thread of the run, for frames converted one
+ * at a time. While frames are converted at once it has one thread, so the
+ * run never holds more threads than -j (plus this one). 0 on failure. */
+static int full_context(run *r)
+{
+    jm_params p;
+    jm_context_get_params(r->ctx, &p);
+    if (p.threads == total_threads(r))
+        return 1;
+    p = r->o->params;
+    p.threads = total_threads(r);
+    return jm_context_set_params(r->ctx, &p) == JM_OK;
 }
 
 /* Converts every frame: W at once on worker threads while the results are
@@ -583,9 +754,17 @@ static void convert_all(run *r)
         outcome *oc = &r->oc[i];
         if (fm && (!farm_wait(fm, i) || oc->retry)) {
             /* this frame and the rest one at a time: any outcomes beyond it
-             * are complete once the farm has stopped, or never begun */
+             * are complete once the farm has stopped, or never begun; the
+             * workers' contexts (their threads and scratch) go first, so
+             * that the frame alone has all the threads and all the memory */
             farm_stop(fm);
             fm = NULL;
+            free_workers(r);
+        }
+        if ((!oc->done || oc->retry) && !full_context(r)) {
+            outcome_fail(oc, "out of memory for the meshing context", EXIT_RESOURCE);
+            oc->done = 1;
+            oc->retry = 0;
         }
         if (!oc->done || oc->retry)
             convert_frame(r->o, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
@@ -666,9 +845,7 @@ static void run_free(run *r)
     seq_list_free(&r->frames);
     stats_free(&r->log);
     jm_context_free(r->ctx);
-    for (int w = 0; w < r->nwctx; w++)
-        jm_context_free(r->wctx[w]);
-    free(r->wctx);
+    free_workers(r);
     free(r->oc);
 }
 
@@ -698,12 +875,25 @@ int cmd_convert(int argc, char **argv)
         rc = options_usage_error("convert", "--frames selects none of the input frames");
         goto done;
     }
+    if (r.frames.count > SEQ_MAX_FRAMES) {
+        rc = options_usage_error("convert",
+                                 "the inputs name %zu frames, more than the %d one run plans: split them "
+                                 "over several runs (--frames) or shards (--shard)",
+                                 r.frames.count, SEQ_MAX_FRAMES);
+        goto done;
+    }
     if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
     choose_field(&r);
     take_shard(&r);
+    if ((rc = check_writable(&r)) != EXIT_ALL_OK)
+        goto done;
 
-    jm_status cs = jm_context_create(&o.params, &r.ctx);
+    /* one thread while frames are converted at once: full_context() gives
+     * it the rest when it has to convert alone */
+    jm_params mp = o.params;
+    mp.threads = frame_jobs(&r) > 1 ? 1 : total_threads(&r);
+    jm_status cs = jm_context_create(&mp, &r.ctx);
     if (cs != JM_OK) {
         if (cs == JM_E_INVALID_ARGUMENT) {
             if (param_errors_describe(&o.params, err, sizeof err) == 0)

@@ -353,7 +353,13 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
                 rc = options_usage_error(cmd, "--stats FILE must end in .csv or .json, not '%s'", optarg);
             o->stats_path = optarg;
             break;
-        case O_STATSSVG: o->stats_svg = optarg; break;
+        case O_STATSSVG: {
+            size_t n = strlen(optarg);
+            if (n < 5 || strcmp(optarg + n - 4, ".svg") != 0)
+                rc = options_usage_error(cmd, "--stats-svg FILE must end in .svg, not '%s'", optarg);
+            o->stats_svg = optarg;
+            break;
+        }
         case O_DROP: o->read.drop_invalid = 1; break;
         case O_NOSYNC: o->write.no_sync = 1; break;
         case O_FRAMEJOBS:
