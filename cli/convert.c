@@ -519,7 +519,14 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
         if (ms == JM_E_TOO_LARGE)
             /* names --cube-size when the machine itself could not hold it */
             param_errors_too_large(msg, sizeof msg, f->path, &o->params, &parts, est, o->max_memory);
-        else if (ms == JM_E_INVALID_PARTICLE) {
+        else if (ms == JM_E_TOO_DENSE) {
+            snprintf(msg, sizeof msg,
+                     "%s: %zu particles packed far closer than their radius %g: many duplicated "
+                     "particles, or -r far too large for their spacing (the neighbour search is "
+                     "bounded; see jetmesh(1), LIMITS)",
+                     f->path, fr.count, (double)o->params.radius);
+            status = EXIT_SOME_FAILED;
+        } else if (ms == JM_E_INVALID_PARTICLE) {
             snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
                      jm_status_message(ms));
             status = EXIT_SOME_FAILED;

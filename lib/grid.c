@@ -1,6 +1,7 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -37,6 +38,7 @@ typedef struct {
     float **soa;      /* per worker: neighbours of a cell as x[], y[], z[] */
     size_t *soa_cap;  /* per worker: floats per coordinate array */
     int failed;
+    jm_mem *mem;      /* the context's accounting */
 } nb_job;
 
 /* The particle ranges of the (up to 27) non-empty cells around cell ci. */
@@ -101,6 +103,7 @@ static void sph_cell(void *arg, size_t ci, int worker)
     if (cap > job->soa_cap[worker]) {
         float *b = realloc(job->soa[worker], 3 * cap * sizeof *b);
         if (!b) { job->failed = 1; return; }
+        jm_mem_add(job->mem, 3 * (cap - job->soa_cap[worker]) * sizeof *b); /* counted scratch */
         job->soa[worker] = b;
         job->soa_cap[worker] = cap;
     }
@@ -312,8 +315,24 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     jm_free(mem, order, (n ? n : 1) * sizeof *order);
     order = NULL;
 
+    /* bounded work: the neighbour search below checks every particle of a
+     * cell against those of the 27 cells around it; refuse before it starts
+     * when that is beyond JM_MAX_PAIR_CHECKS (a frame of duplicates, or a
+     * radius far too large, would otherwise take hours) */
+    {
+        double pairs = 0.0;
+        uint32_t rr[27][2];
+        for (size_t ci = 0; ci < ncells; ci++) {
+            int nr = near_ranges(g, ci, rr);
+            size_t around = 0;
+            for (int k = 0; k < nr; k++) around += rr[k][1] - rr[k][0];
+            pairs += (double)(g->cell_start[ci + 1] - g->cell_start[ci]) * (double)around;
+        }
+        if (pairs > JM_MAX_PAIR_CHECKS(n)) { st = JM_E_TOO_DENSE; goto fail; }
+    }
+
     /* neighbour data */
-    nb_job job = {g, c, 1, 0, NULL, NULL, NULL, 0};
+    nb_job job = {g, c, 1, 0, NULL, NULL, NULL, 0, mem};
     float iso;
     if (c->field == JM_FIELD_SPH) iso = 2.0f * c->support;
     else iso = fmaxf(c->link, 2.6f * c->r);
@@ -332,7 +351,10 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             goto fail;
         }
         jm_pool_run(pool, ncells, 16, sph_cell, &job);
-        for (int w = 0; w < nt; w++) free(job.soa[w]);
+        for (int w = 0; w < nt; w++) {
+            jm_mem_sub(mem, 3 * job.soa_cap[w] * sizeof(float));
+            free(job.soa[w]);
+        }
         free(job.soa);
         free(job.soa_cap);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto fail; }
@@ -346,11 +368,20 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             uint32_t k = g->nb_start[i];
             g->nb_start[i] = (uint32_t)total;
             total += k;
-            if (total > UINT32_MAX) { st = JM_E_TOO_LARGE; goto fail; }
+            /* links are numbered after the n balls, below the sentinel */
+            if ((uint64_t)n + total >= UINT32_MAX) { st = JM_E_TOO_LARGE; goto fail; }
         }
         g->nb_start[n] = (uint32_t)total;
         g->nb_count = total;
         if (!total) g->nb_count = 1; /* what is allocated */
+        /* over 1000 links a particle on average (bulk fluid at rest
+         * spacing 2r has 18): the radius is far too large for the spacing */
+        if (total > 1000 * (size_t)n) { st = JM_E_TOO_DENSE; goto fail; }
+        /* 24 bytes a link: checked against the limit before it is taken */
+        if (c->max_bytes && atomic_load(&mem->current) + g->nb_count * 24 > c->max_bytes) {
+            st = JM_E_TOO_LARGE;
+            goto fail;
+        }
         g->nb = jm_alloc(mem, g->nb_count * sizeof(uint32_t));
         g->nb_owner = jm_alloc(mem, g->nb_count * sizeof(uint32_t));
         g->nb_dir = jm_alloc(mem, g->nb_count * 4 * sizeof(float));

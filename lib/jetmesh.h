@@ -110,8 +110,20 @@ typedef enum jm_status {
                                 lattice nodes to sample (a cube size absurdly
                                 small for the particles' spread) */
     JM_E_THREAD,           /**< worker threads could not be started */
-    JM_E_INTERNAL          /**< a bug: please report it */
+    JM_E_INTERNAL,         /**< a bug: please report it */
+    JM_E_TOO_DENSE         /**< particles packed far closer than their radius:
+                                the neighbour search would check more than
+                                JM_MAX_PAIR_CHECKS(n) pairs, or the metasphere
+                                would link a particle to over 1000 others on
+                                average (many duplicated particles, or a
+                                radius far too large for their spacing) */
 } jm_status;
+
+/** The bound on a frame's neighbour-search work: n particles are searched
+ *  with at most max(2e9, 4000 n) pair checks, else JM_E_TOO_DENSE, decided
+ *  before the search from the particles' cell counts. Bulk fluid at rest
+ *  spacing 2r needs about 220 n; 50,000 copies of one particle 2.5e9. */
+#define JM_MAX_PAIR_CHECKS(n) ((double)(n) * 4000.0 > 2e9 ? (double)(n) * 4000.0 : 2e9)
 
 /** A static, human-readable message for a status ("ok", ...). Never NULL. */
 const char *jm_status_message(jm_status status);

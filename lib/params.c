@@ -12,6 +12,7 @@ const char *jm_status_message(jm_status status)
     case JM_E_TOO_LARGE: return "frame too large: over the memory limit, or a lattice far too fine for the particles' spread";
     case JM_E_THREAD: return "worker threads could not be started";
     case JM_E_INTERNAL: return "internal error (a bug in jetmesh)";
+    case JM_E_TOO_DENSE: return "particles packed far closer than their radius (duplicated particles, or a radius far too large)";
     }
     return "unknown status";
 }
