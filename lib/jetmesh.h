@@ -173,6 +173,22 @@ typedef struct jm_params {
                                  Extraction), so volumes come out unbiased */
     size_t max_bytes;       /**< refuse frames whose estimated working memory
                                  exceeds this (JM_E_TOO_LARGE); 0 = no limit */
+    /* sph: Yu-Turk anisotropic kernels (see "Anisotropic kernels" above) */
+    int anisotropic;        /**< 1: anisotropic kernels on smoothed centres
+                                 (JM_FIELD_SPH only; JM_E_INVALID_ARGUMENT with
+                                 the metasphere); 0: the isotropic field */
+    float aniso_radius;     /**< PCA neighbourhood radius r_n relative to r;
+                                 default the kernel support (2 smoothing_length);
+                                 at most twice the support */
+    float aniso_smoothing;  /**< lambda, centre smoothing in [0, 1]; default
+                                 0.5; a negative value means 0 (no smoothing) */
+    float aniso_max_ratio;  /**< k_r >= 1: largest to smallest axis; default 4 */
+    float aniso_scale;      /**< k_s: longest axis relative to h; default 1 */
+    float aniso_iso_scale;  /**< k_n: kernel size relative to h where fewer than
+                                 N_eps neighbours; default 1 */
+    int aniso_min_neighbours; /**< N_eps: neighbours (within r_n, itself not
+                                 counted) below which a kernel stays isotropic;
+                                 default 6 */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
