@@ -27,15 +27,15 @@
  *   by about a particle radius. Only the part of the offset beyond b moves
  *   the centre, so flat and gently curved surfaces stay put while particles
  *   standing out of them (lattice corners, ridges, tips) are pulled in.
- * - axes proportional to the neighbourhood's standard deviations (square
- *   roots of the covariance's eigenvalues), clamped to at least 1/k_r of the
- *   largest, and scaled by the largest instead of the paper's absolute k_s
- *   (a constant tuned to a particle spacing): the longest axis is k_s h, so a
- *   kernel never reaches further than k_s isotropic supports and bulk
- *   kernels keep about the isotropic size whatever the spacing.
+ * - axes proportional to the covariance's eigenvalues (as the paper), the
+ *   smaller ones clamped to at least 1/k_r of the largest, then scaled to a
+ *   geometric mean of k_s instead of by the paper's absolute k_s (a constant
+ *   tuned to one particle spacing): every kernel covers the volume of the
+ *   isotropic one times k_s^3, bulk kernels keep the isotropic size whatever
+ *   the spacing, and the longest axis is at most k_s k_r^(2/3) h.
  * - fewer than N_eps neighbours: the isotropic kernel scaled by k_n.
  * amp = V h^3 det G keeps each kernel's integral that of the isotropic one. */
-#define JM_AN_DRIFT 0.28
+#define JM_AN_DRIFT 0.27
 
 void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, float V, float out[JM_AN_STRIDE])
 {
@@ -54,12 +54,10 @@ void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, flo
         double val[3], vec[9];
         jm_sym3_eigen(C, val, vec);
         if (val[0] > 0.0) {
-            double top = sqrt(val[0]);
-            for (int k = 0; k < 3; k++) {
-                double sd = val[k] > 0.0 ? sqrt(val[k]) : 0.0;
-                if (sd < top / c->an_kr) sd = top / c->an_kr;
-                s[k] = c->an_ks * sd / top;
-            }
+            double sv[3];
+            for (int k = 0; k < 3; k++) sv[k] = val[k] > val[0] / c->an_kr ? val[k] : val[0] / c->an_kr;
+            double gm = cbrt(sv[0] * sv[1] * sv[2]);
+            for (int k = 0; k < 3; k++) s[k] = c->an_ks * sv[k] / gm;
             memcpy(R, vec, sizeof R);
         }
     }

@@ -100,7 +100,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     if (p.anisotropic && p.field != JM_FIELD_SPH) return JM_E_INVALID_ARGUMENT;
     if (p.anisotropic) {
         if (p.aniso_radius == 0.0f) p.aniso_radius = 4.0f * p.smoothing_length;
-        if (p.aniso_smoothing == 0.0f) p.aniso_smoothing = 0.9f;
+        if (p.aniso_smoothing == 0.0f) p.aniso_smoothing = 1.0f;
         if (p.aniso_max_ratio == 0.0f) p.aniso_max_ratio = 4.0f;
         if (p.aniso_scale == 0.0f) p.aniso_scale = 1.0f;
         if (p.aniso_iso_scale == 0.0f) p.aniso_iso_scale = 1.0f;
