@@ -111,7 +111,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
             p.aniso_min_neighbours = (int)lrintf(25.0f * v * v * v);
             if (p.aniso_min_neighbours < 3) p.aniso_min_neighbours = 3;
         }
-        if (p.aniso_radius < 0.1f || p.aniso_radius > 8.0f * p.smoothing_length || p.aniso_smoothing > 1.0f ||
+        if (p.aniso_radius < 0.1f || p.aniso_radius > 4.0f * p.smoothing_length || p.aniso_smoothing > 1.0f ||
             p.aniso_max_ratio < 1.0f || p.aniso_max_ratio > 100.0f || p.aniso_scale < 0.05f ||
             p.aniso_scale > 4.0f || p.aniso_iso_scale < 0.05f || p.aniso_iso_scale > 4.0f)
             return JM_E_INVALID_ARGUMENT;
