@@ -223,7 +223,9 @@ static void print_params(const run *r)
            p.method == JM_METHOD_MC ? "mc" : "mt", (double)p.threshold);
     if (p.field == JM_FIELD_SPH)
         printf("smoothing length %g r, ", (double)p.smoothing_length);
-    else
+    if (p.anisotropic)
+        printf("anisotropic kernels (radius %g r), ", (double)p.aniso_radius);
+    if (p.field != JM_FIELD_SPH)
         printf("link distance %g r, ", (double)p.link_distance);
     printf("threads %d, frames at once %d, uv %s, normals %s, max memory %s; output %s%s\n",
            p.threads ? p.threads : platform_cores(), frame_jobs(r), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
