@@ -12,7 +12,8 @@
 #define JM_AN_STRIDE 13
 
 /* Accumulates one particle's neighbourhood (itself included) for the
- * weighted mean and covariance, in double, relative to the particle. */
+ * weighted mean and covariance, in double, relative to the particle (the
+ * brute-force path of jm_field_eval; the grid sums float lanes). */
 typedef struct jm_an_acc {
     double w, s[3], ss[6];
     int count; /* neighbours within the radius, itself not counted */
