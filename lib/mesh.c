@@ -666,10 +666,12 @@ jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size
     if (!ctx || !particles || !out_bytes || (particles->count && !particles->xyz)) return JM_E_INVALID_ARGUMENT;
     jm_config cb = ctx->cfg;
     const jm_config *c = &cb;
-    /* anisotropic kernels: at most k_s (or k_n) supports from a centre moved
-     * at most lambda r_n */
-    if (cb.aniso)
-        cb.influence = cb.support * (cb.an_ks > cb.an_kn ? cb.an_ks : cb.an_kn) + cb.an_lambda * cb.an_radius;
+    /* anisotropic kernels: at most k_s k_r^(2/3) (or k_n) supports from a
+     * centre moved at most lambda r_n */
+    if (cb.aniso) {
+        float k = cb.an_ks * cbrtf(cb.an_kr * cb.an_kr);
+        cb.influence = cb.support * (k > cb.an_kn ? k : cb.an_kn) + cb.an_lambda * cb.an_radius;
+    }
     size_t n = particles->count;
     /* at most the blocks a particle's reach can touch, and at most the
      * bounding box's blocks */
