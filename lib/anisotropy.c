@@ -296,7 +296,7 @@ static inline __attribute__((always_inline)) void an_sample(AN_SAMPLE_ARGS, an_r
              * Py dy^2 + 2 Qy dz dy + Rz dz^2 < 4 (x eliminated) */
             const float i00 = 1.0f / m00, sc = inv_h * i00, four00 = 4.0f * m00;
             const float Py = m11 - m01 * m01 * i00, Qy = m12 - m01 * m02 * i00, Rz = m22 - m02 * m02 * i00;
-            const float iPy = 1.0f / Py, ccx = (cx - x[0]) * inv_h, pad_y = 0.01f * h;
+            const float iPy = 1.0f / Py, ccx = (cx - x[0]) * inv_h, ccy = (cy - y[0]) * inv_h;
             int k0, k1;
             node_span(z, n, inv_h, cz - a[12], cz + a[12], &k0, &k1);
             for (int kk = k0; kk < k1; kk++) {
@@ -304,8 +304,11 @@ static inline __attribute__((always_inline)) void an_sample(AN_SAMPLE_ARGS, an_r
                 const float qd = Qy * dz, dy_disc = qd * qd - Py * (Rz * dz * dz - 4.0f);
                 if (!(dy_disc > 0.0f)) continue;
                 const float sy = sqrtf(dy_disc);
-                int j0, j1;
-                node_span(y, n, inv_h, cy + (-qd - sy) * iPy - pad_y, cy + (sy - qd) * iPy + pad_y, &j0, &j1);
+                /* the rows, as the chords below: indices from the spacing,
+                 * a hundredth of a node of slack */
+                int j0 = iceil(ccy + (-qd - sy) * iPy * inv_h - 0.01f), j1 = ifloor(ccy + (sy - qd) * iPy * inv_h + 0.01f) + 1;
+                j0 = j0 > 0 ? j0 : 0;
+                j1 = j1 < n ? j1 : n;
                 const float Bz = m02 * dz, Cy = 2.0f * m12 * dz, Cz = m22 * dz * dz;
                 float *slab = pad + (size_t)kk * n * ns;
                 for (int jj = j0; jj < j1; jj++) {
