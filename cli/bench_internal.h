@@ -63,10 +63,14 @@ typedef struct bench_case {
 
 typedef enum { TPL_AUTO, TPL_ON, TPL_OFF, TPL_BOTH } tpl_mode;
 
+/* --field sph-aniso: the SPH field with anisotropic kernels (a bench case
+ * value only; the library sees JM_FIELD_SPH and params.anisotropic) */
+#define BENCH_FIELD_SPH_ANISO ((jm_field)(JM_FIELD_SPH + 100))
+
 typedef struct bench_opts {
     bench_input inputs[64];
     size_t ninputs;
-    jm_field fields[2];
+    jm_field fields[3]; /* JM_FIELD_* or BENCH_FIELD_SPH_ANISO */
     size_t nfields;
     jm_method methods[2];
     size_t nmethods;

@@ -34,7 +34,8 @@ static void bench_help(FILE *f)
         "\n"
         "Options (LIST: one value or a comma list, e.g. mt,mc or 1,2):\n"
         "      --scene SCENE           add a scene (repeatable; same as the operand)\n"
-        "      --field LIST            metasphere, sph (default metasphere)\n"
+        "      --field LIST            metasphere, sph, sph-aniso (sph with --anisotropic)\n"
+        "                              (default metasphere)\n"
         "      --method LIST           mt, mc (default mt)\n"
         "  -r, --radius R              particle radius (default 0.025); scenes are\n"
         "                              generated with it\n"
@@ -171,8 +172,10 @@ static int item_field(bench_opts *o, const char *opt, const char *s)
         f = JM_FIELD_METASPHERE;
     else if (strcmp(s, "sph") == 0)
         f = JM_FIELD_SPH;
+    else if (strcmp(s, "sph-aniso") == 0)
+        f = BENCH_FIELD_SPH_ANISO;
     else
-        return options_usage_error(CMD, "%s is metasphere or sph, not '%s'", opt, s);
+        return options_usage_error(CMD, "%s is metasphere, sph or sph-aniso, not '%s'", opt, s);
     for (size_t i = 0; i < o->nfields; i++)
         if (o->fields[i] == f)
             return OPTIONS_RUN;
@@ -465,5 +468,8 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
     return OPTIONS_RUN;
 }
 
-const char *bench_field_name(jm_field f) { return f == JM_FIELD_SPH ? "sph" : "metasphere"; }
+const char *bench_field_name(jm_field f)
+{
+    return f == JM_FIELD_SPH ? "sph" : f == BENCH_FIELD_SPH_ANISO ? "sph-aniso" : "metasphere";
+}
 const char *bench_method_name(jm_method m) { return m == JM_METHOD_MC ? "mc" : "mt"; }

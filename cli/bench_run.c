@@ -123,7 +123,8 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
     memset(&p, 0, sizeof p);
     p.radius = (float)o->radius;
     p.cube_size = (float)c->cube;
-    p.field = c->field;
+    p.field = c->field == BENCH_FIELD_SPH_ANISO ? JM_FIELD_SPH : c->field;
+    p.anisotropic = c->field == BENCH_FIELD_SPH_ANISO;
     p.method = c->method;
     if (o->threshold_given)
         p.threshold = (float)o->threshold;

@@ -437,7 +437,9 @@ static void print_params(const run *r)
     printf("), threshold %g, ", (double)p.threshold);
     if (p.field == JM_FIELD_SPH)
         printf("smoothing length %g r, ", (double)p.smoothing_length);
-    else
+    if (p.anisotropic)
+        printf("anisotropic kernels (radius %g r), ", (double)p.aniso_radius);
+    if (p.field != JM_FIELD_SPH)
         printf("link distance %g r, ", (double)p.link_distance);
     if (r->o->params.threads > JM_MAX_THREADS)
         printf("threads %d (-j %d capped at %d), ", total_threads(r), r->o->params.threads, JM_MAX_THREADS);

@@ -94,6 +94,10 @@ void options_convert_help(FILE *f)
         "                              chord-sag offset; the mesh is then a bit small)\n"
         "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
         "                              limit; default half the physical memory)\n"
+        "      --anisotropic           sph: Yu-Turk anisotropic kernels on smoothed centres:\n"
+        "                              flat surfaces look like liquid, not particles\n"
+        "                              (slower; for final renders of --field sph)\n"
+        "      --anisotropic-radius N  its neighbourhood radius, relative to R (default 8)\n"
         "\n"
         "Input and output:\n"
         "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
@@ -157,7 +161,8 @@ void options_generate_help(FILE *f)
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
-    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
+    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
+    O_ANISO, O_ANISO_RADIUS
 };
 
 /* options of the cluster block (see SHARDS in jetmesh(1)) */
@@ -198,6 +203,8 @@ static const struct option convert_long[] = {
     {"frame-jobs", required_argument, 0, O_FRAMEJOBS},
     {"resume", no_argument, 0, O_RESUME},
     {"max-memory", required_argument, 0, O_MAXMEM},
+    {"anisotropic", no_argument, 0, O_ANISO},
+    {"anisotropic-radius", required_argument, 0, O_ANISO_RADIUS},
     {"quiet", no_argument, 0, 'q'},
     {"verbose", no_argument, 0, 'v'},
     {"help", no_argument, 0, O_HELP},
@@ -381,6 +388,8 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
                 rc = options_usage_error(cmd, "--max-memory must be a size like 2G or 500M, not '%s'",
                                          optarg);
             break;
+        case O_ANISO: o->params.anisotropic = 1; break;
+        case O_ANISO_RADIUS: rc = positive(cmd, "--anisotropic-radius", optarg, &o->params.aniso_radius); break;
         case 'q': o->quiet = 1; o->verbose = 0; break;
         case 'v': o->verbose = 1; o->quiet = 0; break;
         case O_HELP: options_convert_help(stdout); return OPTIONS_DONE;
@@ -401,6 +410,16 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
     if (o->field_auto && o->threshold_given)
         return options_usage_error(cmd, "--threshold means a different thing for each field (default 0 "
                                         "metasphere, 0.6 sph): give --field metasphere or --field sph with it");
+    if (o->params.anisotropic && o->field_auto) { /* anisotropic kernels are the SPH field's */
+        o->field_auto = 0;
+        o->params.field = JM_FIELD_SPH;
+        if (o->params.method == JM_METHOD_DEFAULT)
+            o->params.method = JM_METHOD_MC;
+    }
+    if ((o->params.anisotropic || o->params.aniso_radius > 0) && o->params.field != JM_FIELD_SPH)
+        return options_usage_error(cmd, "--anisotropic works on the SPH field only: add --field sph");
+    if (o->params.aniso_radius > 0 && !o->params.anisotropic)
+        return options_usage_error(cmd, "--anisotropic-radius needs --anisotropic");
     o->params.max_bytes = o->max_memory;
     o->read.max_bytes = o->max_memory;
     return OPTIONS_RUN;

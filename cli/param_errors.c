@@ -17,6 +17,8 @@ static const struct {
     {"threshold", "--threshold"},
     {"smoothing_length", "--smoothing-length"},
     {"link_distance", "--link-distance"},
+    {"aniso_radius", "--anisotropic-radius"},
+    {"anisotropic", "--anisotropic"},
     {"threads", "--threads"},
     {"uv_mode", "--uv"},
     {"uv_scale", "--uv-scale"},

@@ -48,6 +48,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->hood.range);
     free(s->soa.buf);
     free(s->order);
+    free(s->an_list.buf);
     memset(s, 0, sizeof *s);
 }
 
@@ -273,6 +274,15 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
         for (int a = 0; a < 3; a++) {
             plo[a] -= 0.01f * c->support;
             phi[a] += 0.01f * c->support;
+        }
+        if (c->aniso) {
+            jm_aniso_gather(g, &s->hood, plo, phi, &s->an_list);
+            if (s->an_list.n == SIZE_MAX) return 0;
+            for (uint32_t k = start[q]; k < start[q + 1]; k++) {
+                uint32_t v = s->order[k];
+                jm_aniso_normal(&s->an_list, &out->pos[3 * v], &out->nrm[3 * v]);
+            }
+            continue;
         }
         jm_sph_gather(g, c, &s->hood, plo, phi, &s->soa);
         if (s->soa.n == SIZE_MAX) return 0;

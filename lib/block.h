@@ -2,6 +2,7 @@
 #ifndef JETMESH_BLOCK_H
 #define JETMESH_BLOCK_H
 #include "field.h"
+#include "anisotropy.h"
 
 /* What one block produced. Vertex refs in tri: an owned vertex's local index,
  * or JM_PENDING | k for the k-th (owner block, owner slot) pair in pend. */
@@ -37,6 +38,7 @@ typedef struct jm_scratch {
     jm_soa soa;               /* sph: particles near a part of the block, for normals */
     uint32_t *order;          /* sph: vertices sorted by part of the block */
     size_t cap_order;
+    jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
 } jm_scratch;
 
 typedef struct jm_block_set {

@@ -1,6 +1,8 @@
 /* eval.c - brute-force evaluation of the implicit function and its gradient at one point. */
 #include "internal.h"
+#include "anisotropy.h"
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void load(const jm_particles *ps, size_t i, float p[3])
@@ -19,7 +21,45 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
     size_t n = ps->count;
     double grad[3] = {0, 0, 0};
     double value;
-    if (c.field == JM_FIELD_SPH) {
+    if (c.field == JM_FIELD_SPH && c.aniso) {
+        /* every particle's volume, centre and kernel by brute force, then
+         * the sum (a particle with no neighbour in its support counts as
+         * isolated only for the lattice, which meshes it from a template of
+         * this same kernel) */
+        float *an = malloc((n ? n : 1) * JM_AN_STRIDE * sizeof *an);
+        if (!an) return JM_E_OUT_OF_MEMORY;
+        const double inv = 1.0 / c.sph_h;
+        for (size_t j = 0; j < n; j++) {
+            float pj[3];
+            load(ps, j, pj);
+            double sum = 0;
+            jm_an_acc acc;
+            memset(&acc, 0, sizeof acc);
+            for (size_t k = 0; k < n; k++) {
+                float pk[3];
+                load(ps, k, pk);
+                double d = sqrt((double)(pk[0] - pj[0]) * (pk[0] - pj[0]) + (double)(pk[1] - pj[1]) * (pk[1] - pj[1]) +
+                                (double)(pk[2] - pj[2]) * (pk[2] - pj[2]));
+                if (d < c.support) sum += jm_cubic_w((float)(d * inv));
+                jm_an_add(&acc, pj, pk, c.an_radius);
+            }
+            jm_an_finish(&c, pj, &acc, (float)(1.0 / sum), an + JM_AN_STRIDE * j);
+        }
+        value = 0;
+        for (size_t j = 0; j < n; j++) {
+            const float *a = an + JM_AN_STRIDE * j;
+            double d[3] = {x[0] - a[0], x[1] - a[1], x[2] - a[2]};
+            double md[3] = {a[3] * d[0] + a[4] * d[1] + a[5] * d[2], a[4] * d[0] + a[6] * d[1] + a[7] * d[2],
+                            a[5] * d[0] + a[7] * d[1] + a[8] * d[2]};
+            double q2 = d[0] * md[0] + d[1] * md[1] + d[2] * md[2];
+            if (!(q2 < 4.0)) continue;
+            double q = sqrt(q2);
+            value += a[9] * jm_cubic_w((float)q);
+            if (q > 0)
+                for (int k = 0; k < 3; k++) grad[k] += a[9] * jm_cubic_dw((float)q) / q * md[k];
+        }
+        free(an);
+    } else if (c.field == JM_FIELD_SPH) {
         const double inv = 1.0 / c.sph_h, R = c.support;
         value = 0;
         for (size_t j = 0; j < n; j++) {

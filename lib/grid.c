@@ -1,5 +1,6 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
+#include "anisotropy.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -200,6 +201,7 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     jm_free(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t));
     jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
     jm_free(mem, g->isolated, n);
+    jm_aniso_free(g, mem);
     if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
     memset(g, 0, sizeof *g);
 }

@@ -59,6 +59,13 @@ typedef struct jm_config {
     int compensate;    /* metasphere: offset vertices by the chord sag */
     int drop_cavities; /* remove inward shells smaller than a particle */
     size_t max_bytes;
+    /* sph anisotropic kernels (anisotropy.c); influence is then raised per
+     * frame to the largest reach of the frame's kernels */
+    int aniso;
+    float an_radius;   /* PCA neighbourhood radius, world */
+    float an_lambda;   /* centre smoothing */
+    float an_kr, an_ks, an_kn;
+    int an_neps;
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);
@@ -134,6 +141,9 @@ typedef struct jm_grid {
     float lo[3], hi[3];   /* particle bounds */
     uint8_t *isolated;    /* per sorted particle: 1 if no neighbour in reach */
     size_t n_isolated;
+    float *an;            /* sph anisotropic: JM_AN_STRIDE floats per sorted
+                             particle (see anisotropy.h) */
+    float an_reach;       /* largest |centre - x| + ellipsoid box half-side */
 } jm_grid;
 
 

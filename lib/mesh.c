@@ -311,7 +311,8 @@ static int cmp_u64(const void *a, const void *b)
 static size_t estimate(const jm_config *c, size_t n, size_t nblocks, int threads)
 {
     size_t B = (size_t)c->block;
-    double per_particle = 12 + 4 + 4 + 1 + 16 + (c->field == JM_FIELD_METASPHERE ? 4 + 4 * 16 : 4);
+    double per_particle = 12 + 4 + 4 + 1 + 16 + (c->field == JM_FIELD_METASPHERE ? 4 + 4 * 16 : 4) +
+                          (c->aniso ? JM_AN_STRIDE * sizeof(float) : 0);
     /* a block crossed by the surface: about 2 B^2 vertices (32 bytes with
      * normal and uv) and 4 B^2 triangle indices... counted for a quarter of
      * the blocks, the rest being inside or outside the fluid */
@@ -439,6 +440,15 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     jm_grid g;
     s = jm_grid_build(&g, mem, ctx->pool, c, in);
     if (s != JM_OK) return s;
+    jm_config frame_cfg;
+    if (c->aniso) {
+        /* anisotropic kernels: the band reaches as far as this frame's kernels */
+        s = jm_aniso_build(&g, mem, ctx->pool, c);
+        if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
+        frame_cfg = *c;
+        if (g.an_reach > frame_cfg.influence) frame_cfg.influence = g.an_reach;
+        c = &frame_cfg;
+    }
     jm_block_set bs;
     s = build_blocks(c, &g, mem, &bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
@@ -672,7 +682,14 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
 jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size_t *out_bytes)
 {
     if (!ctx || !particles || !out_bytes || (particles->count && !particles->xyz)) return JM_E_INVALID_ARGUMENT;
-    const jm_config *c = &ctx->cfg;
+    jm_config cb = ctx->cfg;
+    const jm_config *c = &cb;
+    /* anisotropic kernels: at most k_s k_r^(2/3) (or k_n) supports from a
+     * centre moved at most lambda r_n */
+    if (cb.aniso) {
+        float k = cb.an_ks * cbrtf(cb.an_kr * cb.an_kr);
+        cb.influence = cb.support * (k > cb.an_kn ? k : cb.an_kn) + cb.an_lambda * cb.an_radius;
+    }
     size_t n = particles->count;
     /* at most the blocks a particle's reach can touch, and at most the
      * bounding box's blocks */

@@ -1,6 +1,7 @@
 /* params.c - status messages, version, and parameter defaults/validation. */
 #include "internal.h"
 #include <math.h>
+#include <string.h>
 
 const char *jm_status_message(jm_status status)
 {
@@ -24,6 +25,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     if (!in) return JM_E_INVALID_ARGUMENT;
     /* every range (and the member that leaves it) is in params_check.c */
     if (jm_params_check(in, NULL) != JM_OK) return JM_E_INVALID_ARGUMENT;
+    memset(c, 0, sizeof *c); /* fields of unused features stay zero (contexts memcmp configs) */
     jm_params p = *in;
     if (p.field == JM_FIELD_DEFAULT) p.field = JM_FIELD_METASPHERE;
     if (p.method == JM_METHOD_DEFAULT) p.method = JM_METHOD_MT;
@@ -81,6 +83,29 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->compensate = !p.no_compensation;
     c->drop_cavities = !p.keep_cavities;
     c->max_bytes = p.max_bytes;
+    /* anisotropic kernels: zeros mean defaults (see jetmesh.h); their ranges
+     * are checked in params_check.c */
+    if (p.anisotropic) {
+        if (p.aniso_radius == 0.0f) p.aniso_radius = 4.0f * p.smoothing_length;
+        if (p.aniso_smoothing == 0.0f) p.aniso_smoothing = 1.0f;
+        if (p.aniso_max_ratio == 0.0f) p.aniso_max_ratio = 4.0f;
+        if (p.aniso_scale == 0.0f) p.aniso_scale = 1.0f;
+        if (p.aniso_iso_scale == 0.0f) p.aniso_iso_scale = 1.0f;
+        if (p.aniso_min_neighbours == 0) {
+            /* the paper's 25 at r_n = 8r (2r spacing: about 270 neighbours in
+             * bulk), scaled with the neighbourhood's volume */
+            float v = p.aniso_radius / 8.0f;
+            p.aniso_min_neighbours = (int)lrintf(25.0f * v * v * v);
+            if (p.aniso_min_neighbours < 3) p.aniso_min_neighbours = 3;
+        }
+        c->aniso = 1;
+        c->an_radius = p.aniso_radius * r;
+        c->an_lambda = p.aniso_smoothing < 0.0f ? 0.0f : p.aniso_smoothing;
+        c->an_kr = p.aniso_max_ratio;
+        c->an_ks = p.aniso_scale;
+        c->an_kn = p.aniso_iso_scale;
+        c->an_neps = p.aniso_min_neighbours;
+    }
     if (f) *f = p;
     return JM_OK;
 }

@@ -67,5 +67,27 @@ jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
                       "a finite number from 0 (world units; 0 = the default 16 radius)");
     if (p->uv_axis < 0 || p->uv_axis > 3)
         return refuse(out, "uv_axis", p->uv_axis, 0, 0, 3, 0, "0 (default z), 1 x, 2 y or 3 z");
+    if (p->anisotropic < 0 || p->anisotropic > 1)
+        return refuse(out, "anisotropic", p->anisotropic, 0, 0, 1, 0, "0 or 1");
+    if (p->anisotropic && p->field != JM_FIELD_SPH)
+        return refuse(out, "anisotropic", p->anisotropic, 0, 0, 0, 0, "0 unless the field is JM_FIELD_SPH");
+    if (p->anisotropic) {
+        float sl = p->smoothing_length > 0.0f ? p->smoothing_length : 2.0f;
+        if (!in_range_or_zero(p->aniso_radius, 0.1f, 4.0f * sl))
+            return refuse(out, "aniso_radius", p->aniso_radius, 0.1f, 0, 4.0 * sl, 0,
+                          "0.1 to 4 smoothing lengths (times radius; 0 = the default 4 smoothing lengths)");
+        if (!isfinite(p->aniso_smoothing) || p->aniso_smoothing > 1.0f)
+            return refuse(out, "aniso_smoothing", p->aniso_smoothing, -HUGE_VAL, 1, 1, 0,
+                          "at most 1 (0 = the default 1; negative = no smoothing)");
+        if (!in_range_or_zero(p->aniso_max_ratio, 1.0f, 100.0f))
+            return refuse(out, "aniso_max_ratio", p->aniso_max_ratio, 1, 0, 100, 0, "1 to 100 (0 = the default 4)");
+        if (!in_range_or_zero(p->aniso_scale, 0.05f, 4.0f))
+            return refuse(out, "aniso_scale", p->aniso_scale, 0.05, 0, 4, 0, "0.05 to 4 (0 = the default 1)");
+        if (!in_range_or_zero(p->aniso_iso_scale, 0.05f, 4.0f))
+            return refuse(out, "aniso_iso_scale", p->aniso_iso_scale, 0.05, 0, 4, 0, "0.05 to 4 (0 = the default 1)");
+        if (p->aniso_min_neighbours < 0)
+            return refuse(out, "aniso_min_neighbours", p->aniso_min_neighbours, 0, 0, INT_MAX, 0,
+                          "0 (the default) or more");
+    }
     return JM_OK;
 }

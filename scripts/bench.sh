@@ -61,6 +61,8 @@ fi
 
 group block_sph --scene block:10000 --scene block:100000 $SPH --method mc,mt -j 1,2
 group block_meta --scene block:10000 --field metasphere --method mt,mc -j 1,2
+# the anisotropic kernels against the isotropic field, side by side in one run
+group block_aniso --scene block:100000 --field sph,sph-aniso --smoothing-length 2 --threshold 0.6 --method mc -j 1,2
 group block_1m --scene block:1000000 $SPH --method mc -j 1,2 --min-time 0 --repeat 3 --write glb
 group spray --scene spray:10000 --field metasphere,sph --method mt -j 1,2 --templates both
 
@@ -225,6 +227,10 @@ const sp1 = find("spray", "spray:10000", "metasphere", "mt", 1), sps = find("spr
 row("spray 10k: template path ≥ 3× general path (metasphere mt, 1 thread)",
     sp1 && sp1.template_speedup ? `${f(sp1.template_speedup, 1)}× (sph: ${sps && sps.template_speedup ? f(sps.template_speedup, 1) + "×" : "–"})` : "–",
     sp1 && sp1.template_speedup ? sp1.template_speedup >= 3 : null);
+const ai1 = find("block_aniso", "block:100000", "sph", "mc", 1), aa1 = find("block_aniso", "block:100000", "sph-aniso", "mc", 1);
+row("100k block, mc, 1 thread: --anisotropic ≤ 2× the isotropic field",
+    ai1 && aa1 ? `${f(sec(aa1), 3)} s against ${f(sec(ai1), 3)} s (${f(sec(aa1) / sec(ai1), 2)}×)` : "–",
+    ai1 && aa1 ? sec(aa1) <= 2 * sec(ai1) : null);
 const SQ = B.sequence;
 row("100-frame jet sequence to GLB faster than 100 process starts (medians)",
     SQ.convert_s != null && SQ.starts_s != null ? `${f(SQ.convert_s)} s against ${f(SQ.starts_s)} s (${f(SQ.starts_s / SQ.convert_s, 2)}×)` : "–",
@@ -258,6 +264,7 @@ const titles = {
   real: "Real frames (radius 0.025; 3 runs each)",
   block_sph: "Blocks 10k and 100k, sph (the reference case: mc)",
   block_meta: "Block 10k, metasphere",
+  block_aniso: "Block 100k, sph against sph with anisotropic kernels (mc)",
   block_1m: "Block 1M, sph mc, with a GLB write stage (3 runs)",
   spray: "Spray 10k isolated droplets, templates off (general path) and on",
 };

@@ -22,6 +22,8 @@ tsan() { # expected-status args...
 # the library's threads on one frame, both fields
 tsan 0 convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 --field sph --method mc -j 4 \
     -o "$T/dam.obj" -q
+tsan 0 convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 --field sph --anisotropic \
+    --method mc -j 4 -o "$T/dam_aniso.obj" -q
 tsan 0 convert samples/jet/jet_099.csv -r 0.025 -j 4 -o "$T/jet.glb" -q
 # frames at once, with a failure in the middle: with and without --keep-going
 mkdir "$T/in"

@@ -1,0 +1,432 @@
+/* anisotropy.c - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, splat, normals. */
+#include "anisotropy.h"
+#include "sym3.h"
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+#define AN(g, i) (&(g)->an[JM_AN_STRIDE * (size_t)(i)])
+
+/* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
+ * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
+#define JM_AN_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define JM_AN_CLONES
+#endif
+
+/* Yu & Turk, "Reconstructing surfaces of particle-based fluids using
+ * anisotropic kernels", ACM TOG 32(1), 2013, section 3, with three changes
+ * (see jetmesh.h, "Anisotropic kernels"):
+ * - centres: the paper's x + lambda (mean - x) pulls every particle of a flat
+ *   free surface inward by lambda times the drift of a half-ball's weighted
+ *   mean, b = JM_AN_DRIFT r_n (sum w - 1) / sum w (0.32 r_n for a continuous
+ *   half-ball, less with the particle's own weight): the surface would shrink
+ *   by about a particle radius. Only the part of the offset beyond b moves
+ *   the centre, so flat and gently curved surfaces stay put while particles
+ *   standing out of them (lattice corners, ridges, tips) are pulled in.
+ * - axes proportional to the covariance's eigenvalues (as the paper), the
+ *   smaller ones clamped to at least 1/k_r of the largest, then scaled to a
+ *   geometric mean of k_s instead of by the paper's absolute k_s (a constant
+ *   tuned to one particle spacing): every kernel covers the volume of the
+ *   isotropic one times k_s^3, bulk kernels keep the isotropic size whatever
+ *   the spacing, and the longest axis is at most k_s k_r^(2/3) h.
+ * - fewer than N_eps neighbours: the isotropic kernel scaled by k_n.
+ * amp = V h^3 det G keeps each kernel's integral that of the isotropic one. */
+#define JM_AN_DRIFT 0.27
+
+void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, float V, float out[JM_AN_STRIDE])
+{
+    double mean[3] = {0, 0, 0}, s[3], R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (a->w > 0.0)
+        for (int k = 0; k < 3; k++) mean[k] = a->s[k] / a->w;
+    double ml = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+    double drift = a->w > 0.0 ? JM_AN_DRIFT * c->an_radius * (a->w - 1.0) / a->w : 0.0;
+    double move = ml > drift ? c->an_lambda * (ml - drift) / ml : 0.0;
+    for (int k = 0; k < 3; k++) out[k] = (float)(xi[k] + move * mean[k]);
+    s[0] = s[1] = s[2] = c->an_kn;
+    if (a->count >= c->an_neps && a->w > 0.0) {
+        double C[6] = {a->ss[0] / a->w - mean[0] * mean[0], a->ss[1] / a->w - mean[0] * mean[1],
+                       a->ss[2] / a->w - mean[0] * mean[2], a->ss[3] / a->w - mean[1] * mean[1],
+                       a->ss[4] / a->w - mean[1] * mean[2], a->ss[5] / a->w - mean[2] * mean[2]};
+        double val[3], vec[9];
+        jm_sym3_eigen(C, val, vec);
+        if (val[0] > 0.0) {
+            double sv[3];
+            for (int k = 0; k < 3; k++) sv[k] = val[k] > val[0] / c->an_kr ? val[k] : val[0] / c->an_kr;
+            double gm = cbrt(sv[0] * sv[1] * sv[2]);
+            for (int k = 0; k < 3; k++) s[k] = c->an_ks * sv[k] / gm;
+            memcpy(R, vec, sizeof R);
+        }
+    }
+    /* M = R diag(1 / (h s_k)^2) R^T; box half-side along axis a:
+     * 2 sqrt((M^-1)_aa) = 2 h sqrt(sum_k s_k^2 R_ak^2) */
+    const double h = c->sph_h;
+    double inv2[3], M[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < 3; k++) inv2[k] = 1.0 / (h * h * s[k] * s[k]);
+    static const int ij[6][2] = {{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}};
+    for (int e = 0; e < 6; e++)
+        for (int k = 0; k < 3; k++) M[e] += R[3 * ij[e][0] + k] * R[3 * ij[e][1] + k] * inv2[k];
+    for (int e = 0; e < 6; e++) out[3 + e] = (float)M[e];
+    out[9] = (float)((double)V / (s[0] * s[1] * s[2]));
+    for (int ax = 0; ax < 3; ax++) {
+        double e2 = 0.0;
+        for (int k = 0; k < 3; k++) e2 += s[k] * s[k] * R[3 * ax + k] * R[3 * ax + k];
+        /* a hair wider than the ellipsoid: float rounding of M */
+        out[10 + ax] = (float)(2.0 * h * sqrt(e2) * (1.0 + 1e-5));
+    }
+}
+
+typedef struct an_job {
+    jm_grid *g;
+    const jm_config *c;
+    jm_mem *mem;
+    int range;       /* cells each side holding the neighbourhood */
+    float **soa;     /* per worker: the neighbourhood of a cell as x[], y[], z[] */
+    size_t *soa_cap; /* per worker: floats per coordinate array */
+    int failed;
+} an_job;
+
+/* The neighbourhoods of the particles of cell ci: the candidates of the
+ * cells around are copied once into structure-of-arrays form (padded to 8
+ * with far-away points), then each particle sums over them in 8 lanes added
+ * in a fixed order. */
+JM_AN_CLONES static void an_cell(void *arg, size_t ci, int worker)
+{
+    an_job *job = arg;
+    jm_grid *g = job->g;
+    const jm_config *c = job->c;
+    const int32_t *cc = &g->cell_coord[3 * ci];
+    const int rg = job->range;
+    size_t m = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        size_t t = 0;
+        float *xs = job->soa[worker], *ys = xs + job->soa_cap[worker], *zs = ys + job->soa_cap[worker];
+        for (int dz = -rg; dz <= rg; dz++)
+            for (int dy = -rg; dy <= rg; dy++)
+                for (int dx = -rg; dx <= rg; dx++) {
+                    uint32_t nc = jm_grid_cell(g, (int64_t)cc[0] + dx, (int64_t)cc[1] + dy, (int64_t)cc[2] + dz);
+                    if (nc == UINT32_MAX) continue;
+                    if (pass == 0) {
+                        t += g->cell_start[nc + 1] - g->cell_start[nc];
+                        continue;
+                    }
+                    for (uint32_t j = g->cell_start[nc]; j < g->cell_start[nc + 1]; j++, t++) {
+                        xs[t] = g->pos[3 * (size_t)j];
+                        ys[t] = g->pos[3 * (size_t)j + 1];
+                        zs[t] = g->pos[3 * (size_t)j + 2];
+                    }
+                }
+        if (pass == 0) {
+            m = t;
+            size_t cap = (m + 7) & ~(size_t)7;
+            if (cap > job->soa_cap[worker]) {
+                float *b = jm_realloc(job->mem, job->soa[worker], 3 * job->soa_cap[worker] * sizeof *b,
+                                      3 * cap * sizeof *b);
+                if (!b) { job->failed = 1; return; }
+                job->soa[worker] = b;
+                job->soa_cap[worker] = cap;
+            }
+        } else {
+            for (; t < ((m + 7) & ~(size_t)7); t++) xs[t] = ys[t] = zs[t] = 1e30f;
+        }
+    }
+    const size_t cap = job->soa_cap[worker], groups = (m + 7) / 8;
+    const float *xs = job->soa[worker], *ys = xs + cap, *zs = ys + cap;
+    const float R2 = c->an_radius * c->an_radius, invR = 1.0f / c->an_radius;
+    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
+        const float *xi = GP(g, i);
+        jm_an_acc a;
+        memset(&a, 0, sizeof a);
+        if (g->isolated[i]) {
+            a.w = 1.0; /* alone: the isotropic kernel where it is */
+        } else {
+            /* lanes: w, w dx, w dy, w dz, w dx dx, w dx dy, w dx dz, w dy dy,
+             * w dy dz, w dz dz, count */
+            float L[11][8];
+            memset(L, 0, sizeof L);
+            for (size_t b = 0; b < groups; b++)
+                for (int l = 0; l < 8; l++) {
+                    const float ex = xs[8 * b + l] - xi[0], ey = ys[8 * b + l] - xi[1], ez = zs[8 * b + l] - xi[2];
+                    const float d2 = ex * ex + ey * ey + ez * ez;
+                    const float u = sqrtf(d2) * invR;
+                    const float w = d2 < R2 ? 1.0f - u * u * u : 0.0f;
+                    const float wx = w * ex, wy = w * ey, wz = w * ez;
+                    L[0][l] += w;
+                    L[1][l] += wx;
+                    L[2][l] += wy;
+                    L[3][l] += wz;
+                    L[4][l] += wx * ex;
+                    L[5][l] += wx * ey;
+                    L[6][l] += wx * ez;
+                    L[7][l] += wy * ey;
+                    L[8][l] += wy * ez;
+                    L[9][l] += wz * ez;
+                    L[10][l] += d2 < R2 && d2 > 0.0f ? 1.0f : 0.0f;
+                }
+            double sum[11];
+            for (int k = 0; k < 11; k++) {
+                sum[k] = 0.0;
+                for (int l = 0; l < 8; l++) sum[k] += L[k][l];
+            }
+            a.w = sum[0];
+            for (int k = 0; k < 3; k++) a.s[k] = sum[1 + k];
+            for (int k = 0; k < 6; k++) a.ss[k] = sum[4 + k];
+            a.count = (int)sum[10];
+        }
+        jm_an_finish(c, xi, &a, g->weight[i], AN(g, i));
+    }
+}
+
+void jm_aniso_free(jm_grid *g, jm_mem *mem)
+{
+    if (g->an) jm_free(mem, g->an, (g->n ? g->n : 1) * JM_AN_STRIDE * sizeof(float));
+    g->an = NULL;
+}
+
+jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c)
+{
+    g->an = jm_alloc(mem, (g->n ? g->n : 1) * JM_AN_STRIDE * sizeof(float));
+    if (!g->an) return JM_E_OUT_OF_MEMORY;
+    int nt = jm_pool_threads(pool);
+    an_job job = {g, c, mem, (int)ceilf(c->an_radius * g->inv_cell), NULL, NULL, 0};
+    if (job.range < 1) job.range = 1;
+    job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);
+    job.soa_cap = jm_calloc(mem, (size_t)nt, sizeof *job.soa_cap);
+    if (job.soa && job.soa_cap) jm_pool_run(pool, g->ncells, 16, an_cell, &job);
+    else job.failed = 1;
+    if (job.soa && job.soa_cap)
+        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 3 * job.soa_cap[w] * sizeof(float));
+    if (job.soa) jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
+    if (job.soa_cap) jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
+    if (job.failed) {
+        jm_aniso_free(g, mem);
+        return JM_E_OUT_OF_MEMORY;
+    }
+    float reach = c->support;
+    for (size_t i = 0; i < g->n; i++) {
+        if (g->isolated[i]) continue;
+        const float *a = AN(g, i), *x = GP(g, i);
+        for (int k = 0; k < 3; k++) {
+            float r = fabsf(a[k] - x[k]) + a[10 + k];
+            if (r > reach) reach = r;
+        }
+    }
+    g->an_reach = reach * 1.0001f;
+    return JM_OK;
+}
+
+
+/* row[i] += amp w(sqrt(max((m00 dx + 2B) dx + C, 0))), dx = xp[i] - cx, for
+ * i in [a, b), b - a a multiple of 8 (lanes past the chord add exact zeros):
+ * plain C, SSE2 and AVX2 doing the same IEEE operations in the same order */
+#define AN_ROW_ARGS float *restrict row, const float *restrict xp, int a, int b, float cx, float m00, float B2, float C, float amp
+static inline __attribute__((always_inline)) void an_row_c(AN_ROW_ARGS)
+{
+    for (int i = a; i < b; i++) {
+        const float dx = xp[i] - cx;
+        float q2 = (m00 * dx + B2) * dx + C;
+        q2 = q2 > 0.0f ? q2 : 0.0f;
+        const float q = sqrtf(q2);
+        float A = 2.0f - q, Bq = 1.0f - q;
+        A = A > 0.0f ? A : 0.0f;
+        Bq = Bq > 0.0f ? Bq : 0.0f;
+        row[i] = row[i] + amp * (0.25f * A * A * A - Bq * Bq * Bq);
+    }
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+static inline __attribute__((always_inline)) void an_row_sse2(AN_ROW_ARGS)
+{
+    const __m128 vc = _mm_set1_ps(cx), vm = _mm_set1_ps(m00), vb = _mm_set1_ps(B2), vC = _mm_set1_ps(C);
+    const __m128 va = _mm_set1_ps(amp), two = _mm_set1_ps(2.0f), one = _mm_set1_ps(1.0f);
+    const __m128 zero = _mm_setzero_ps(), quarter = _mm_set1_ps(0.25f);
+    for (int i = a; i < b; i += 4) {
+        __m128 dx = _mm_sub_ps(_mm_loadu_ps(xp + i), vc);
+        __m128 q2 = _mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(vm, dx), vb), dx), vC);
+        __m128 q = _mm_sqrt_ps(_mm_max_ps(q2, zero));
+        __m128 A = _mm_max_ps(_mm_sub_ps(two, q), zero), B = _mm_max_ps(_mm_sub_ps(one, q), zero);
+        __m128 w = _mm_sub_ps(_mm_mul_ps(_mm_mul_ps(_mm_mul_ps(quarter, A), A), A), _mm_mul_ps(_mm_mul_ps(B, B), B));
+        _mm_storeu_ps(row + i, _mm_add_ps(_mm_loadu_ps(row + i), _mm_mul_ps(va, w)));
+    }
+}
+__attribute__((target("avx2"))) static inline __attribute__((always_inline)) void an_row_avx2(AN_ROW_ARGS)
+{
+    const __m256 vc = _mm256_set1_ps(cx), vm = _mm256_set1_ps(m00), vb = _mm256_set1_ps(B2), vC = _mm256_set1_ps(C);
+    const __m256 va = _mm256_set1_ps(amp), two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f);
+    const __m256 zero = _mm256_setzero_ps(), quarter = _mm256_set1_ps(0.25f);
+    for (int i = a; i < b; i += 8) {
+        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vc);
+        __m256 q2 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(vm, dx), vb), dx), vC);
+        __m256 q = _mm256_sqrt_ps(_mm256_max_ps(q2, zero));
+        __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero), B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
+        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
+                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(va, w)));
+    }
+}
+#endif
+
+typedef void (*an_row_fn)(AN_ROW_ARGS);
+
+#define AN_SAMPLE_ARGS                                                                                       \
+    const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
+        int n, float *pad
+/* the sampling loop, inlined into each variant with its row function */
+static inline __attribute__((always_inline)) void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn)
+{
+    const int ns = JM_PAD(n);
+    const float inv_h = c->inv_h, h = c->h;
+    float xp[JM_PAD_MAX];
+    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;
+    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);
+    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    for (size_t k = 0; k < cells; k++)
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+            const float *a = AN(g, p);
+            const float cx = a[0], cy = a[1], cz = a[2];
+            if (cx + a[10] < x[0] || cx - a[10] > x[n - 1] || cy + a[11] < y[0] || cy - a[11] > y[n - 1] ||
+                cz + a[12] < z[0] || cz - a[12] > z[n - 1] || g->isolated[p])
+                continue;
+            const float m00 = a[3], m01 = a[4], m02 = a[5], m11 = a[6], m12 = a[7], m22 = a[8], amp = a[9];
+            /* in a slab dz the rows dy cut the ellipsoid where
+             * Py dy^2 + 2 Qy dz dy + Rz dz^2 < 4 (x eliminated) */
+            const float i00 = 1.0f / m00, sc = inv_h * i00, four00 = 4.0f * m00;
+            const float Py = m11 - m01 * m01 * i00, Qy = m12 - m01 * m02 * i00, Rz = m22 - m02 * m02 * i00;
+            const float iPy = 1.0f / Py, ccx = (cx - x[0]) * inv_h, ccy = (cy - y[0]) * inv_h;
+            int k0, k1;
+            node_span(z, n, inv_h, cz - a[12], cz + a[12], &k0, &k1);
+            for (int kk = k0; kk < k1; kk++) {
+                const float dz = z[kk] - cz;
+                const float qd = Qy * dz, dy_disc = qd * qd - Py * (Rz * dz * dz - 4.0f);
+                if (!(dy_disc > 0.0f)) continue;
+                const float sy = sqrtf(dy_disc);
+                /* the rows, as the chords below: indices from the spacing,
+                 * a hundredth of a node of slack */
+                int j0 = iceil(ccy + (-qd - sy) * iPy * inv_h - 0.01f), j1 = ifloor(ccy + (sy - qd) * iPy * inv_h + 0.01f) + 1;
+                j0 = j0 > 0 ? j0 : 0;
+                j1 = j1 < n ? j1 : n;
+                const float Bz = m02 * dz, Cy = 2.0f * m12 * dz, Cz = m22 * dz * dz;
+                float *slab = pad + (size_t)kk * n * ns;
+                for (int jj = j0; jj < j1; jj++) {
+                    const float dy = y[jj] - cy;
+                    /* q^2 = m00 dx^2 + 2 B dx + C along the row: the chord
+                     * where it is under 4 */
+                    const float B = m01 * dy + Bz, C = (m11 * dy + Cy) * dy + Cz;
+                    const float disc = B * B - m00 * C + four00;
+                    if (!(disc > 0.0f)) continue;
+                    const float sq = sqrtf(disc);
+                    /* a hundredth of a node of slack each side: the chord's
+                     * ends are good to about 1e-5 nodes unless the row barely
+                     * touches the ellipsoid, where w is under 1e-12 anyway */
+                    int i0 = iceil(ccx - (B + sq) * sc - 0.01f), i1 = ifloor(ccx + (sq - B) * sc + 0.01f) + 1;
+                    i0 = i0 > 0 ? i0 : 0;
+                    i1 = i1 < n ? i1 : n;
+                    if (i0 >= i1) continue;
+                    row_fn(slab + (size_t)jj * ns, xp, i0, i0 + ((i1 - i0 + 7) & ~7), cx, m00, 2.0f * B, C, amp);
+                }
+            }
+        }
+}
+
+static void an_sample_c(AN_SAMPLE_ARGS) { an_sample(g, c, hood, x, y, z, n, pad, an_row_c); }
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+static void an_sample_sse2(AN_SAMPLE_ARGS) { an_sample(g, c, hood, x, y, z, n, pad, an_row_sse2); }
+__attribute__((target("avx2"))) static void an_sample_avx2(AN_SAMPLE_ARGS)
+{
+    an_sample(g, c, hood, x, y, z, n, pad, an_row_avx2);
+}
+#endif
+
+typedef void (*an_sample_fn)(AN_SAMPLE_ARGS);
+static an_sample_fn an_chosen;
+static pthread_once_t an_once = PTHREAD_ONCE_INIT;
+/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest the
+ * CPU runs, 1 plain C, 2 SSE2 */
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+static void an_choose(void)
+{
+    an_chosen = an_sample_c;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+    an_chosen = __builtin_cpu_supports("avx2") ? an_sample_avx2 : an_sample_sse2;
+    if (JM_SPLAT_VARIANT == 1) an_chosen = an_sample_c;
+    if (JM_SPLAT_VARIANT == 2) an_chosen = an_sample_sse2;
+#endif
+}
+
+void jm_aniso_sample(AN_SAMPLE_ARGS)
+{
+    pthread_once(&an_once, an_choose);
+    an_chosen(g, c, hood, x, y, z, n, pad);
+}
+
+void jm_aniso_gather(const jm_grid *g, const jm_hood *hood, const float lo[3], const float hi[3], jm_an_list *out)
+{
+    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    out->n = 0;
+    for (size_t k = 0; k < cells; k++)
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+            const float *a = AN(g, p);
+            if (a[0] + a[10] < lo[0] || a[0] - a[10] > hi[0] || a[1] + a[11] < lo[1] || a[1] - a[11] > hi[1] ||
+                a[2] + a[12] < lo[2] || a[2] - a[12] > hi[2] || g->isolated[p])
+                continue;
+            if (out->n + 8 > out->cap) {
+                size_t nc = out->cap ? out->cap * 2 : 1024;
+                float *b = realloc(out->buf, 10 * nc * sizeof *b);
+                if (!b) { out->n = SIZE_MAX; return; }
+                out->buf = b;
+                out->cap = nc;
+            }
+            float *b = out->buf + 10 * (out->n & ~(size_t)7) + (out->n & 7);
+            for (int f = 0; f < 10; f++) b[8 * f] = a[f];
+            out->n++;
+        }
+    /* pad the last group of 8 with weightless kernels far away */
+    for (size_t m = out->n; m & 7; m++) {
+        float *b = out->buf + 10 * (m & ~(size_t)7) + (m & 7);
+        for (int f = 0; f < 10; f++) b[8 * f] = 0.0f;
+        b[0] = b[8] = b[16] = 1e30f;
+        b[24] = 1.0f; /* m00 */
+    }
+}
+
+JM_AN_CLONES int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3])
+{
+    /* grad phi = sum amp w'(q) / q M d, with q = sqrt(d^T M d); 8 lanes
+     * summed in a fixed order */
+    float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
+    size_t groups = (l->n + 7) / 8;
+    for (size_t gi = 0; gi < groups; gi++) {
+        const float *b = l->buf + JM_AN_GROUP * gi;
+        for (int t = 0; t < 8; t++) {
+            const float d0 = p[0] - b[t], d1 = p[1] - b[8 + t], d2 = p[2] - b[16 + t];
+            const float m00 = b[24 + t], m01 = b[32 + t], m02 = b[40 + t], m11 = b[48 + t], m12 = b[56 + t];
+            const float m22 = b[64 + t], amp = b[72 + t];
+            const float md0 = m00 * d0 + m01 * d1 + m02 * d2;
+            const float md1 = m01 * d0 + m11 * d1 + m12 * d2;
+            const float md2 = m02 * d0 + m12 * d1 + m22 * d2;
+            const float q2 = d0 * md0 + d1 * md1 + d2 * md2;
+            const float q = sqrtf(q2);
+            const float k = q2 < 4.0f && q2 > 0.0f ? amp * jm_cubic_dw(q) / q : 0.0f;
+            gx[t] += k * md0;
+            gy[t] += k * md1;
+            gz[t] += k * md2;
+        }
+    }
+    float o[3] = {0, 0, 0};
+    for (int t = 0; t < 8; t++) {
+        o[0] -= gx[t];
+        o[1] -= gy[t];
+        o[2] -= gz[t];
+    }
+    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(len > 0.0f) || !isfinite(len)) return 0;
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
+    return 1;
+}
