@@ -58,6 +58,9 @@ typedef struct jm_config {
     int templates;
     int compensate;    /* metasphere: offset vertices by the chord sag */
     size_t max_bytes;
+    int smooth_iters;        /* post.h: feature-weighted smoothing iterations */
+    int smooth_normal_iters; /* normal smoothing iterations */
+    float simplify_error;    /* world units; 0 = no simplification */
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

@@ -173,6 +173,33 @@ typedef struct jm_params {
                                  Extraction), so volumes come out unbiased */
     size_t max_bytes;       /**< refuse frames whose estimated working memory
                                  exceeds this (JM_E_TOO_LARGE); 0 = no limit */
+    /* ---- post-processing, in this order (all off by default) */
+    int smooth_iterations;  /**< iterations of feature-weighted Laplacian
+                                 smoothing (Löschner et al. 2023): each vertex
+                                 moves toward the mean of its neighbours by a
+                                 weight from 0 to 1 interpolated from the
+                                 particles' neighbour counts (1 over bulk
+                                 fluid, near 0 for droplets, pairs and thin
+                                 sheets, which keep their shape); then every
+                                 connected piece is moved along its normals
+                                 to enclose its unsmoothed volume again.
+                                 Normals become the smoothed surface's
+                                 (area-weighted mesh normals, blended with the
+                                 field's by the weight); UVs are recomputed.
+                                 0 = off; at most 100000 */
+    int smooth_normal_iterations; /**< iterations of normal smoothing (each
+                                 normal becomes the unit mean of itself and
+                                 its neighbours'), after smoothing; UVs
+                                 follow. 0 = off; at most 100000 */
+    float simplify_error;   /**< simplify the final mesh (meshoptimizer edge
+                                 collapses) to at most this geometric error,
+                                 relative to r (e.g. 0.1); surviving vertices
+                                 keep their positions, normals and UVs. The
+                                 result is checked closed and manifold; if a
+                                 collapse ever pinched it, the error is halved
+                                 (twice) and then the mesh left unsimplified.
+                                 Sphere templates of isolated particles are
+                                 simplified too, never smoothed. 0 = off */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
@@ -218,6 +245,8 @@ typedef struct jm_stats {
     size_t peak_bytes;    /**< peak of the context's own heap during the call
                                (mesh included) */
     int threads;          /**< worker threads used */
+    double ms_post;       /**< smoothing, normal smoothing, simplification
+                               (not part of the other stages; in ms_total) */
 } jm_stats;
 
 typedef struct jm_context jm_context;

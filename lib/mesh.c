@@ -1,5 +1,6 @@
 /* mesh.c - the context and the frame pipeline: grid, active blocks, batches, stitching, templates. */
 #include "block.h"
+#include "post.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -566,6 +567,21 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     st->ms_extract += t_stitch;
     st->ms_attributes += t4 - t3;
 
+    /* post-processing (post.h) */
+    if (c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f) {
+        jm_post_mesh pm = {ctx->pos, ctx->nrm, ctx->uv, ctx->idx, ctx->nv, ctx->ni, ctx->nv, ctx->ni};
+        if (g.n_isolated) {
+            pm.nv_lattice = job.tmpl_v0;
+            pm.ni_lattice = job.tmpl_i0;
+        }
+        s = jm_smooth_mesh(mem, ctx->pool, c, &g, &pm);
+        if (s == JM_OK) s = jm_simplify_mesh(mem, c, &pm);
+        if (s != JM_OK) goto out_job;
+        ctx->nv = pm.nv;
+        ctx->ni = pm.ni;
+        st->ms_post += jm_now_ms() - t4;
+    }
+
 out_job:
     if (job.iso) jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
     if (job.bmap)
@@ -589,6 +605,8 @@ static jm_status make_template(jm_context *ctx)
     jm_config c = ctx->cfg;
     c.templates = 0;
     c.uv_mode = JM_UV_NONE;
+    c.smooth_iters = c.smooth_normal_iters = 0;
+    c.simplify_error = 0.0f;
     c.normals = 1;
     /* at a lattice node: the symmetric shape (and splashsurf's test case) */
     ctx->t_origin[0] = ctx->t_origin[1] = ctx->t_origin[2] = 0.0f;

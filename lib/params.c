@@ -91,6 +91,12 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->templates = !p.no_templates;
     c->compensate = !p.no_compensation;
     c->max_bytes = p.max_bytes;
+    if (p.smooth_iterations < 0 || p.smooth_iterations > 100000 || p.smooth_normal_iterations < 0 ||
+        p.smooth_normal_iterations > 100000 || bad(p.simplify_error) || p.simplify_error > 1000.0f)
+        return JM_E_INVALID_ARGUMENT;
+    c->smooth_iters = p.smooth_iterations;
+    c->smooth_normal_iters = p.smooth_normal_iterations;
+    c->simplify_error = p.simplify_error * r;
     if (f) *f = p;
     return JM_OK;
 }

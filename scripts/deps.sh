@@ -3,7 +3,7 @@
 # Usage: scripts/deps.sh [build|test|all]   (default: all)
 set -e
 what=${1:-all}
-build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev libdraco-dev libcmocka-dev"
+build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev libdraco-dev libcmocka-dev libmeshoptimizer-dev"
 test_pkgs="draco mandoc clang valgrind libclang-rt-14-dev libxml2-utils strace"
 case "$what" in
   build) pkgs="$build_pkgs" ;;
