@@ -89,6 +89,13 @@ void options_convert_help(FILE *f)
         "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
         "                              limit; default half the physical memory)\n"
         "\n"
+        "Post-processing (off by default; in this order):\n"
+        "      --smooth N              N iterations of feature-weighted smoothing: bulk\n"
+        "                              fluid smooth, droplets and sheets kept, volume\n"
+        "                              restored (25 removes SPH \"orange peel\")\n"
+        "      --smooth-normals N      N iterations of normal smoothing (e.g. 10)\n"
+        "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n"
+        "\n"
         "Input and output:\n"
         "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
         "      --frames START:END[:STEP]  select frame numbers; END is inclusive\n"
@@ -147,7 +154,8 @@ void options_generate_help(FILE *f)
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
-    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
+    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
+    O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY
 };
 
 static const struct option convert_long[] = {
@@ -183,6 +191,9 @@ static const struct option convert_long[] = {
     {"frame-jobs", required_argument, 0, O_FRAMEJOBS},
     {"resume", no_argument, 0, O_RESUME},
     {"max-memory", required_argument, 0, O_MAXMEM},
+    {"smooth", required_argument, 0, O_POST_SMOOTH},
+    {"smooth-normals", required_argument, 0, O_POST_NSMOOTH},
+    {"simplify", required_argument, 0, O_POST_SIMPLIFY},
     {"quiet", no_argument, 0, 'q'},
     {"verbose", no_argument, 0, 'v'},
     {"help", no_argument, 0, O_HELP},
@@ -285,6 +296,22 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_NONORMALS: o->params.no_normals = 1; break;
         case O_NOTEMPLATES: o->params.no_templates = 1; break;
         case O_NOCOMP: o->params.no_compensation = 1; break;
+        case O_POST_SMOOTH:
+        case O_POST_NSMOOTH:
+            if (cli_parse_long(optarg, 0, 100000, &l) != 0)
+                rc = options_usage_error(cmd, "%s must be a whole number from 0 to 100000, not '%s'",
+                                         c == O_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
+            else if (c == O_POST_SMOOTH)
+                o->params.smooth_iterations = (int)l;
+            else
+                o->params.smooth_normal_iterations = (int)l;
+            break;
+        case O_POST_SIMPLIFY:
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= 0) || d > 1000)
+                rc = options_usage_error(cmd, "--simplify must be a number from 0 to 1000, not '%s'", optarg);
+            else
+                o->params.simplify_error = (float)d;
+            break;
         case O_UVAXIS:
             if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
             else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;
