@@ -3,6 +3,9 @@
 #include <meshoptimizer.h>
 #include <stdlib.h>
 #include <string.h>
+#ifndef JM_SIMPLIFY_AIM
+#define JM_SIMPLIFY_AIM 0.5f
+#endif
 
 /*
  * meshopt_simplify collapses edges onto existing vertices, so the surviving
@@ -85,30 +88,128 @@ out:
     return ok;
 }
 
+/* Simplifies the triangles idx[0..ni) over vertices pos[0..nv) to the
+ * absolute error err into dst; retries at half the error twice while the
+ * result is not closed and manifold, then copies the input. Returns the
+ * index count, or SIZE_MAX when out of memory. */
+static size_t simplify_checked(jm_mem *mem, const uint32_t *idx, size_t ni, const float *pos, size_t nv, float err,
+                               int tries, uint32_t *dst)
+{
+    float scale = meshopt_simplifyScale(pos, nv, 3 * sizeof(float));
+    float target = scale > 0.0f ? err / scale : 0.0f;
+    for (int attempt = 0; attempt < tries; attempt++, target *= 0.5f) {
+        size_t n = meshopt_simplify(dst, idx, ni, pos, nv, 3 * sizeof(float), 0, target, meshopt_SimplifyLockBorder,
+                                    NULL);
+        int ok = manifold(mem, dst, n, nv);
+        if (ok < 0) return SIZE_MAX;
+        if (ok) return n;
+    }
+    memcpy(dst, idx, ni * sizeof *idx);
+    return ni;
+}
+
+static uint32_t find_root(uint32_t *parent, uint32_t v)
+{
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+/* The whole mesh failed the check: each connected piece on its own, so a
+ * pinch only costs its own piece. Writes the new triangles to dst. */
+static jm_status by_pieces(jm_mem *mem, const jm_post_mesh *m, float err, uint32_t *dst, size_t *out_n)
+{
+    size_t nv = m->nv, ni = m->ni, nt = ni / 3, done = 0;
+    jm_status st = JM_OK;
+    uint32_t *lab = jm_alloc(mem, nv * sizeof *lab), *loc = jm_alloc(mem, nv * sizeof *loc);
+    uint32_t *tstart = NULL, *tris = NULL, *vstart = NULL, *verts = NULL, *lidx = NULL, *ldst = NULL;
+    float *lpos = NULL;
+    size_t ncomp = 0, maxt = 0, maxv = 0;
+    if (!lab || !loc) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    for (size_t v = 0; v < nv; v++) lab[v] = (uint32_t)v;
+    for (size_t t = 0; t < nt; t++)
+        for (int k = 1; k < 3; k++) {
+            uint32_t a = find_root(lab, m->idx[3 * t]), b = find_root(lab, m->idx[3 * t + k]);
+            if (a != b) lab[a > b ? a : b] = a < b ? a : b;
+        }
+    for (size_t v = 0; v < nv; v++) { /* roots are their pieces' smallest vertices */
+        uint32_t r = find_root(lab, (uint32_t)v);
+        loc[v] = r == v ? (uint32_t)ncomp++ : loc[r];
+    }
+    memcpy(lab, loc, nv * sizeof *lab);
+    tstart = jm_calloc(mem, ncomp + 1, sizeof *tstart);
+    vstart = jm_calloc(mem, ncomp + 1, sizeof *vstart);
+    tris = jm_alloc(mem, (nt ? nt : 1) * sizeof *tris);
+    verts = jm_alloc(mem, nv * sizeof *verts);
+    if (!tstart || !vstart || !tris || !verts) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    /* triangles and vertices grouped by piece, in their order */
+    for (size_t t = 0; t < nt; t++) tstart[lab[m->idx[3 * t]] + 1]++;
+    for (size_t v = 0; v < nv; v++) vstart[lab[v] + 1]++;
+    for (size_t k = 0; k < ncomp; k++) {
+        if (tstart[k + 1] > maxt) maxt = tstart[k + 1];
+        if (vstart[k + 1] > maxv) maxv = vstart[k + 1];
+        tstart[k + 1] += tstart[k];
+        vstart[k + 1] += vstart[k];
+    }
+    for (size_t t = 0; t < nt; t++) tris[tstart[lab[m->idx[3 * t]]]++] = (uint32_t)t;
+    for (size_t v = 0; v < nv; v++) {
+        loc[v] = vstart[lab[v]]; /* its place in verts, for now */
+        verts[vstart[lab[v]]++] = (uint32_t)v;
+    }
+    memmove(tstart + 1, tstart, ncomp * sizeof *tstart);
+    memmove(vstart + 1, vstart, ncomp * sizeof *vstart);
+    tstart[0] = vstart[0] = 0;
+    for (size_t v = 0; v < nv; v++) loc[v] -= vstart[lab[v]]; /* index within its piece */
+    lpos = jm_alloc(mem, (maxv ? maxv : 1) * 3 * sizeof *lpos);
+    lidx = jm_alloc(mem, (maxt ? maxt : 1) * 3 * sizeof *lidx);
+    ldst = jm_alloc(mem, (maxt ? maxt : 1) * 3 * sizeof *ldst);
+    if (!lpos || !lidx || !ldst) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    for (size_t k = 0; k < ncomp; k++) {
+        size_t kv = vstart[k + 1] - vstart[k], kt = tstart[k + 1] - tstart[k];
+        for (size_t i = 0; i < kv; i++) memcpy(&lpos[3 * i], &m->pos[3 * (size_t)verts[vstart[k] + i]], 3 * sizeof(float));
+        for (size_t i = 0; i < kt; i++)
+            for (int c = 0; c < 3; c++) lidx[3 * i + c] = loc[m->idx[3 * (size_t)tris[tstart[k] + i] + c]];
+        size_t n = simplify_checked(mem, lidx, 3 * kt, lpos, kv, err, 3, ldst);
+        if (n == SIZE_MAX) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        for (size_t i = 0; i < n; i++) dst[done + i] = verts[vstart[k] + ldst[i]];
+        done += n;
+    }
+out:
+    *out_n = done;
+    jm_free(mem, lab, nv * sizeof *lab);
+    jm_free(mem, loc, nv * sizeof *loc);
+    jm_free(mem, tstart, (ncomp + 1) * sizeof *tstart);
+    jm_free(mem, vstart, (ncomp + 1) * sizeof *vstart);
+    jm_free(mem, tris, (nt ? nt : 1) * sizeof *tris);
+    jm_free(mem, verts, nv * sizeof *verts);
+    if (lpos) jm_free(mem, lpos, (maxv ? maxv : 1) * 3 * sizeof *lpos);
+    if (lidx) jm_free(mem, lidx, (maxt ? maxt : 1) * 3 * sizeof *lidx);
+    if (ldst) jm_free(mem, ldst, (maxt ? maxt : 1) * 3 * sizeof *ldst);
+    return st;
+}
+
 jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
 {
     if (c->simplify_error <= 0.0f || m->ni == 0 || m->nv == 0) return JM_OK;
     size_t nv = m->nv, ni = m->ni;
+    /* meshoptimizer's error is measured against quadrics (planes), which
+     * underestimate the distance on curved fluid surfaces: aim at a part */
+    float err = c->simplify_error * JM_SIMPLIFY_AIM;
     uint32_t *dst = jm_alloc(mem, ni * sizeof *dst);
     uint32_t *remap = jm_alloc(mem, nv * sizeof *remap);
-    if (!dst || !remap) {
-        jm_free(mem, dst, ni * sizeof *dst);
-        jm_free(mem, remap, nv * sizeof *remap);
-        return JM_E_OUT_OF_MEMORY;
+    jm_status st = JM_OK;
+    if (!dst || !remap) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    size_t n = simplify_checked(mem, m->idx, ni, m->pos, nv, err, 1, dst);
+    if (n == SIZE_MAX) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    if (n == ni && memcmp(dst, m->idx, ni * sizeof *dst) == 0) {
+        /* the check failed (or nothing could go): piece by piece */
+        st = by_pieces(mem, m, err, dst, &n);
+        if (st != JM_OK) goto out;
     }
-    float scale = meshopt_simplifyScale(m->pos, nv, 3 * sizeof(float));
-    float target = scale > 0.0f ? c->simplify_error / scale : 0.0f;
-    size_t n = 0;
-    int ok = 0;
-    for (int attempt = 0; attempt < 3 && !ok; attempt++, target *= 0.5f) {
-        n = meshopt_simplify(dst, m->idx, ni, m->pos, nv, 3 * sizeof(float), 0, target,
-                             meshopt_SimplifyLockBorder, NULL);
-        ok = manifold(mem, dst, n, nv);
-        if (ok < 0) break;
-    }
-    jm_status st = ok < 0 ? JM_E_OUT_OF_MEMORY : JM_OK;
-    if (ok == 1 && n < ni) {
-        /* keep the used vertices in their order */
+    if (n < ni) {
+        /* keep the used vertices, in their order */
         memset(remap, 0xff, nv * sizeof *remap);
         for (size_t t = 0; t < n; t++) remap[dst[t]] = 0;
         size_t k = 0;
@@ -126,6 +227,7 @@ jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
         m->nv = k;
         m->ni = n;
     }
+out:
     jm_free(mem, dst, ni * sizeof *dst);
     jm_free(mem, remap, nv * sizeof *remap);
     return st;

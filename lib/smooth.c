@@ -12,9 +12,9 @@
  * fluid move with weight near 1 while droplets, pairs and thin sheets barely
  * move. The count is the one the pipeline already has: the SPH kernel sum
  * 1/V_j (sph) or the links' sum of 1 - (D/L)^2 (metasphere), normalised by its
- * value in bulk fluid at the rest spacing 2r; the smoothstep's input is that
- * fullness / 0.6, so the surface of bulk fluid (about half the bulk count,
- * interpolated with the full particles below it) gets weight 1.
+ * value in bulk fluid at the rest spacing 2r (1 means bulk, 0 a lone
+ * particle), as splashsurf normalises its count by 13, the bulk value of its
+ * own count.
  *
  * Steps. Each step moves vertex v to x_v + tau w_v (mean of its neighbours -
  * x_v), all vertices at once from the previous positions (Jacobi), so the
@@ -28,7 +28,9 @@
  *
  * Volume. Laplacian smoothing shrinks: afterwards every connected piece of
  * the mesh is moved along its normals, in proportion to the weights, to
- * enclose its original volume again (a linearised step, done twice).
+ * enclose its original volume again (a linearised step, done twice; no
+ * vertex moves more than 5 % of its piece's size, so a small void that the
+ * smoothing nearly closed stays small instead of asking for a huge offset).
  *
  * Normals. The area-weighted mesh normals of the new surface, blended with
  * the field's normals by the weight: the field's gradient at a moved vertex
@@ -180,7 +182,7 @@ static void weight_task(void *arg, size_t chunk, int worker)
             }
         float sk = 0.0f, sf = 0.0f;
         for (int l = 0; l < 8; l++) sk += lk[l], sf += lf[l];
-        float t = sk > 0.0f ? clamp01(sf / sk * (1.0f / 0.6f)) : 0.0f;
+        float t = sk > 0.0f ? clamp01(sf / sk) : 0.0f;
         job->w[v] = t * t * t * (t * (6.0f * t - 15.0f) + 10.0f);
     }
 }
@@ -411,9 +413,9 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
             label[v] = r == v ? (uint32_t)ncomp++ : label[r];
         }
         memcpy(comp, label, nv * sizeof *comp);
-        vol0 = jm_alloc(mem, ncomp * 3 * sizeof *vol0);
+        vol0 = jm_alloc(mem, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
-        double *vol1 = vol0 + ncomp, *den = vol1 + ncomp;
+        double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
         piece_volumes(m, comp, vol0, ncomp);
 
         float *a = m->pos, *b = buf, tau[CYCLE];
@@ -435,14 +437,23 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
         for (int pass = 0; pass < 2; pass++) {
             jm_pool_run(pool, nchunks, 1, area_task, &job);
             piece_volumes(m, comp, vol1, ncomp);
-            memset(den, 0, ncomp * sizeof *den);
+            memset(den, 0, 2 * ncomp * sizeof *den);
             for (size_t v = 0; v < nv; v++) {
                 const float *A = &area[3 * v];
-                den[comp[v]] += (double)w[v] * sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
+                double a = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
+                den[comp[v]] += (double)w[v] * a;
+                tot[comp[v]] += a;
             }
-            for (size_t k = 0; k < ncomp; k++) vol1[k] = den[k] > 0.0 ? (vol0[k] - vol1[k]) / den[k] : 0.0;
+            /* each vertex's offset at most 5 % of its piece's size (the square
+             * root of its area): small voids that smoothing nearly closes
+             * would otherwise ask for huge ones */
+            for (size_t k = 0; k < ncomp; k++) {
+                vol1[k] = den[k] > 0.0 ? (vol0[k] - vol1[k]) / den[k] : 0.0;
+                tot[k] = 0.05 * sqrt(3.0 * tot[k]);
+            }
             for (size_t v = 0; v < nv; v++) {
-                float s = (float)vol1[comp[v]] * w[v], n[3];
+                double sd = vol1[comp[v]] * w[v], cap = tot[comp[v]];
+                float s = (float)(sd > cap ? cap : (sd < -cap ? -cap : sd)), n[3];
                 if (s == 0.0f) continue;
                 memcpy(n, &area[3 * v], sizeof n);
                 float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
@@ -492,6 +503,6 @@ out:
     jm_free(mem, phi, (g->n ? g->n : 1) * sizeof *phi);
     jm_free(mem, area, nv * 3 * sizeof *area);
     jm_free(mem, comp, nv * sizeof *comp);
-    jm_free(mem, vol0, ncomp * 3 * sizeof *vol0);
+    jm_free(mem, vol0, ncomp * 4 * sizeof *vol0);
     return st;
 }
