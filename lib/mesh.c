@@ -28,6 +28,7 @@ struct jm_context {
     uint32_t *t_idx;
     size_t t_nv, t_ni;
     float t_origin[3];
+    jm_post_scratch post; /* post-processing arrays (post.h) */
 };
 
 static int cpu_count(void)
@@ -115,6 +116,7 @@ void jm_context_free(jm_context *ctx)
     jm_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
     jm_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
     jm_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    jm_post_scratch_free(&ctx->post, &ctx->mem);
     jm_pool_free(ctx->pool);
     free(ctx);
 }
@@ -574,7 +576,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             pm.nv_lattice = job.tmpl_v0;
             pm.ni_lattice = job.tmpl_i0;
         }
-        s = jm_smooth_mesh(mem, ctx->pool, c, &g, &pm);
+        s = jm_smooth_mesh(mem, ctx->pool, &ctx->post, c, &g, &pm);
         if (s == JM_OK) s = jm_simplify_mesh(mem, c, &pm);
         if (s != JM_OK) goto out_job;
         ctx->nv = pm.nv;

@@ -13,8 +13,11 @@
  * error is relative to the mesh's extent (meshopt_simplifyScale). It keeps
  * triangles oriented, but an edge collapse can still, rarely, pinch the
  * surface (an edge shared by four triangles, or a vertex whose triangles form
- * two fans). The result is checked; when it fails, the simplification is
- * retried at half the error, twice, and the unsimplified mesh kept after that.
+ * two fans). The result is checked; where it fails, the original triangles
+ * around the defects are kept and the rest simplified again with its border
+ * locked (three rounds, the kept region growing); failing that, every
+ * connected piece is simplified on its own, retried at half the error twice,
+ * and kept as it was after that.
  * meshoptimizer's own scratch memory is not counted in jm_stats.peak_bytes.
  */
 
@@ -36,26 +39,34 @@ static int has_key(const uint64_t *k, size_t n, uint64_t key)
 
 /* 1 if every directed edge appears once and its reverse once (closed,
  * edge-manifold, consistently oriented) and the triangles around every vertex
- * form a single fan; 0 if not; -1 out of memory. */
-static int manifold(jm_mem *mem, const uint32_t *idx, size_t ni, size_t nv)
+ * form a single fan; 0 if not; -1 out of memory. bad (nv flags, may be NULL)
+ * gets the vertices of every defect. */
+static int manifold(jm_mem *mem, const uint32_t *idx, size_t ni, size_t nv, uint8_t *bad)
 {
     int ok = 1;
     uint64_t *k = jm_alloc(mem, (ni ? ni : 1) * sizeof *k);
     uint32_t *start = jm_calloc(mem, nv + 1, sizeof *start);
     uint32_t *fan = jm_alloc(mem, (ni ? ni : 1) * 2 * sizeof *fan);
     if (!k || !start || !fan) { ok = -1; goto out; }
+    if (bad) memset(bad, 0, nv);
     for (size_t t = 0; t + 2 < ni; t += 3)
         for (int e = 0; e < 3; e++) {
             uint32_t a = idx[t + e], b = idx[t + (e + 1) % 3];
-            if (a == b) { ok = 0; goto out; }
+            if (a == b) {
+                ok = 0;
+                if (!bad) goto out;
+                bad[a] = 1;
+            }
             k[t + e] = (uint64_t)a << 32 | b;
         }
     qsort(k, ni, sizeof *k, cmp_u64);
-    for (size_t i = 0; i < ni && ok; i++) {
-        if (i + 1 < ni && k[i + 1] == k[i]) ok = 0;
-        else if (!has_key(k, ni, k[i] << 32 | k[i] >> 32)) ok = 0;
+    for (size_t i = 0; i < ni && (ok || bad); i++) {
+        if ((i + 1 < ni && k[i + 1] == k[i]) || !has_key(k, ni, k[i] << 32 | k[i] >> 32)) {
+            ok = 0;
+            if (bad) bad[k[i] >> 32] = bad[(uint32_t)k[i]] = 1;
+        }
     }
-    if (!ok) goto out;
+    if (!ok && !bad) goto out;
     /* fans: from each vertex, its triangles' (next, previous) corners; the
      * walk next -> previous must visit all of them before it closes */
     for (size_t t = 0; t < ni; t++) start[idx[t] + 1]++;
@@ -68,7 +79,7 @@ static int manifold(jm_mem *mem, const uint32_t *idx, size_t ni, size_t nv)
         }
     for (size_t v = nv; v > 0; v--) start[v] = start[v - 1];
     start[0] = 0;
-    for (size_t v = 0; v < nv && ok; v++) {
+    for (size_t v = 0; v < nv && (ok || bad); v++) {
         uint32_t s = start[v], e = start[v + 1];
         if (s == e) continue;
         uint32_t first = fan[2 * (size_t)s], cur = fan[2 * (size_t)s + 1], steps = 1;
@@ -79,7 +90,10 @@ static int manifold(jm_mem *mem, const uint32_t *idx, size_t ni, size_t nv)
             cur = fan[2 * (size_t)i + 1];
             steps++;
         }
-        if (cur != first || steps != e - s) ok = 0;
+        if (cur != first || steps != e - s) {
+            ok = 0;
+            if (bad) bad[v] = 1;
+        }
     }
 out:
     jm_free(mem, k, (ni ? ni : 1) * sizeof *k);
@@ -100,7 +114,7 @@ static size_t simplify_checked(jm_mem *mem, const uint32_t *idx, size_t ni, cons
     for (int attempt = 0; attempt < tries; attempt++, target *= 0.5f) {
         size_t n = meshopt_simplify(dst, idx, ni, pos, nv, 3 * sizeof(float), 0, target, meshopt_SimplifyLockBorder,
                                     NULL);
-        int ok = manifold(mem, dst, n, nv);
+        int ok = manifold(mem, dst, n, nv, NULL);
         if (ok < 0) return SIZE_MAX;
         if (ok) return n;
     }
@@ -190,6 +204,52 @@ out:
     return st;
 }
 
+/* The simplification left defects at the vertices flagged in bad: keeps the
+ * original triangles around them (within a few rings, growing each round)
+ * and simplifies the rest with its border locked, so the two stitch exactly.
+ * Returns 1 with the triangles in dst (count *n), 0 if still defective after
+ * three rounds, -1 out of memory. */
+static int repair(jm_mem *mem, const jm_post_mesh *m, float err, uint8_t *bad, uint32_t *dst, size_t *n)
+{
+    size_t nv = m->nv, ni = m->ni;
+    uint8_t *region = jm_calloc(mem, nv, 1);
+    uint32_t *rest = jm_alloc(mem, ni * sizeof *rest);
+    int ok = 0;
+    if (!region || !rest) { ok = -1; goto out; }
+    for (int round = 0; round < 3 && !ok; round++) {
+        for (size_t v = 0; v < nv; v++) region[v] |= bad[v];
+        for (int ring = 0; ring < 2 + 2 * round; ring++) {
+            memcpy(bad, region, nv); /* grow from the region as it was */
+            for (size_t t = 0; t < ni; t += 3)
+                if (bad[m->idx[t]] || bad[m->idx[t + 1]] || bad[m->idx[t + 2]])
+                    region[m->idx[t]] = region[m->idx[t + 1]] = region[m->idx[t + 2]] = 1;
+        }
+        size_t nr = 0, nk = 0;
+        for (size_t t = 0; t < ni; t += 3) {
+            const uint32_t *T = &m->idx[t];
+            if (region[T[0]] || region[T[1]] || region[T[2]]) continue;
+            memcpy(&rest[nr], T, 3 * sizeof *T);
+            nr += 3;
+        }
+        float scale = meshopt_simplifyScale(m->pos, nv, 3 * sizeof(float));
+        size_t got = nr ? meshopt_simplify(dst, rest, nr, m->pos, nv, 3 * sizeof(float), 0,
+                                           scale > 0.0f ? err / scale : 0.0f, meshopt_SimplifyLockBorder, NULL)
+                        : 0;
+        for (size_t t = 0; t < ni; t += 3) {
+            const uint32_t *T = &m->idx[t];
+            if (!(region[T[0]] || region[T[1]] || region[T[2]])) continue;
+            memcpy(&dst[got + nk], T, 3 * sizeof *T);
+            nk += 3;
+        }
+        *n = got + nk;
+        ok = manifold(mem, dst, *n, nv, bad);
+    }
+out:
+    jm_free(mem, region, nv);
+    jm_free(mem, rest, ni * sizeof *rest);
+    return ok;
+}
+
 jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
 {
     if (c->simplify_error <= 0.0f || m->ni == 0 || m->nv == 0) return JM_OK;
@@ -199,15 +259,19 @@ jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
     float err = c->simplify_error * JM_SIMPLIFY_AIM;
     uint32_t *dst = jm_alloc(mem, ni * sizeof *dst);
     uint32_t *remap = jm_alloc(mem, nv * sizeof *remap);
+    uint8_t *bad = NULL;
     jm_status st = JM_OK;
     if (!dst || !remap) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    size_t n = simplify_checked(mem, m->idx, ni, m->pos, nv, err, 1, dst);
-    if (n == SIZE_MAX) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    if (n == ni && memcmp(dst, m->idx, ni * sizeof *dst) == 0) {
-        /* the check failed (or nothing could go): piece by piece */
-        st = by_pieces(mem, m, err, dst, &n);
-        if (st != JM_OK) goto out;
-    }
+    float scale = meshopt_simplifyScale(m->pos, nv, 3 * sizeof(float));
+    size_t n = meshopt_simplify(dst, m->idx, ni, m->pos, nv, 3 * sizeof(float), 0, scale > 0.0f ? err / scale : 0.0f,
+                                meshopt_SimplifyLockBorder, NULL);
+    bad = jm_alloc(mem, nv);
+    if (!bad) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    int ok = manifold(mem, dst, n, nv, bad);
+    if (ok == 0) ok = repair(mem, m, err, bad, dst, &n);
+    if (ok == 0) st = by_pieces(mem, m, err, dst, &n); /* each piece, at halved errors, or as it was */
+    if (ok < 0) st = JM_E_OUT_OF_MEMORY;
+    if (st != JM_OK) goto out;
     if (n < ni) {
         /* keep the used vertices, in their order */
         memset(remap, 0xff, nv * sizeof *remap);
@@ -230,5 +294,6 @@ jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
 out:
     jm_free(mem, dst, ni * sizeof *dst);
     jm_free(mem, remap, nv * sizeof *remap);
+    jm_free(mem, bad, nv);
     return st;
 }

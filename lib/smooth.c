@@ -8,7 +8,8 @@
  * Laplacian Smoothing for Surface Reconstruction of Particle-based Fluids":
  * every particle gets a distance-weighted count of its neighbours, the counts
  * are interpolated to the vertices (Shepard, cubic spline over one grid cell:
- * the SPH support) and mapped through a smoothstep, so vertices over bulk
+ * the SPH support; evaluated on a lattice of half a cell, about 2r, and
+ * trilinearly between its nodes) and mapped through a smoothstep, so vertices over bulk
  * fluid move with weight near 1 while droplets, pairs and thin sheets barely
  * move. The count is the one the pipeline already has: the SPH kernel sum
  * 1/V_j (sph) or the links' sum of 1 - (D/L)^2 (metasphere), normalised by its
@@ -28,7 +29,7 @@
  *
  * Volume. Laplacian smoothing shrinks: afterwards every connected piece of
  * the mesh is moved along its normals, in proportion to the weights, to
- * enclose its original volume again (a linearised step, done twice; no
+ * enclose its original volume again (one linearised step; no
  * vertex moves more than 5 % of its piece's size, so a small void that the
  * smoothing nearly closed stays small instead of asking for a huge offset).
  *
@@ -44,6 +45,7 @@
 #define CYCLE 5    /* steps per super-time-stepping cycle */
 #define STS_NU 0.02
 #define NSLOT 16   /* cached particle neighbourhoods per worker */
+#define NCORNER 512 /* cached corner values per worker */
 
 typedef struct sm_slot {
     int64_t cell[3];
@@ -51,6 +53,12 @@ typedef struct sm_slot {
     float *buf;    /* x[cap], y[cap], z[cap], phi[cap] */
     size_t n, cap; /* padded to 8 */
 } sm_slot;
+
+typedef struct sm_corner {
+    int64_t k[3];
+    float v;
+    int used;
+} sm_corner;
 
 typedef struct sm_job {
     const jm_config *c;
@@ -64,6 +72,7 @@ typedef struct sm_job {
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
+    sm_corner *corners;    /* NCORNER per worker */
     int failed;
     const float *src;
     float *dst;
@@ -156,34 +165,69 @@ static sm_slot *neighbourhood(sm_job *job, sm_slot *slots, const int64_t cc[3])
     return s;
 }
 
-/* Vertex weights: the particles' fullness interpolated at the vertex, then
- * the smoothstep. Sums in 8 lanes in a fixed order. */
+/* The particles' fullness interpolated at lattice corner k (spacing half a
+ * grid cell): Shepard, cubic spline of support one grid cell, sums in 8 lanes
+ * in a fixed order; -1 when out of memory. A pure function of k, cached. */
+static float corner_value(sm_job *job, int worker, const int64_t k[3])
+{
+    sm_corner *cs = &job->corners[(size_t)worker * NCORNER];
+    unsigned h = (unsigned)((uint64_t)(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791) % NCORNER);
+    sm_corner *e = &cs[h];
+    if (e->used && e->k[0] == k[0] && e->k[1] == k[1] && e->k[2] == k[2]) return e->v;
+    const jm_grid *g = job->g;
+    const float half = 0.5f * g->cell, inv_h = 2.0f / g->cell;
+    float p[3];
+    int64_t cc[3];
+    for (int a = 0; a < 3; a++) {
+        p[a] = (float)k[a] * half;
+        cc[a] = (int64_t)floorf(p[a] * g->inv_cell);
+    }
+    sm_slot *s = neighbourhood(job, &job->slots[(size_t)worker * NSLOT], cc);
+    if (!s) return -1.0f;
+    const float *x = s->buf, *y = x + s->cap, *z = y + s->cap, *f = z + s->cap;
+    float lk[8] = {0}, lf[8] = {0};
+    for (size_t i = 0; i < s->n; i += 8)
+        for (int l = 0; l < 8; l++) {
+            float dx = x[i + l] - p[0], dy = y[i + l] - p[1], dz = z[i + l] - p[2];
+            float kw = jm_cubic_w(sqrtf(dx * dx + dy * dy + dz * dz) * inv_h); /* 0 beyond the cell */
+            lk[l] += kw;
+            lf[l] += kw * f[i + l];
+        }
+    float sk = 0.0f, sf = 0.0f;
+    for (int l = 0; l < 8; l++) sk += lk[l], sf += lf[l];
+    e->v = sk > 0.0f ? clamp01(sf / sk) : 0.0f;
+    memcpy(e->k, k, sizeof e->k);
+    e->used = 1;
+    return e->v;
+}
+
+/* Vertex weights: the fullness interpolated trilinearly from the corners of
+ * the vertex's half-cell (the field varies on the particle scale; the
+ * vertices lie four times closer), then the smoothstep. */
 static void weight_task(void *arg, size_t chunk, int worker)
 {
     sm_job *job = arg;
-    const jm_grid *g = job->g;
-    const float inv_h = 2.0f / g->cell;
-    sm_slot *slots = &job->slots[(size_t)worker * NSLOT];
+    const float inv_half = 2.0f * job->g->inv_cell;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     for (size_t v = a; v < b; v++) {
         const float *p = &job->m->pos[3 * v];
-        int64_t cc[3];
-        for (int k = 0; k < 3; k++) cc[k] = (int64_t)floorf(p[k] * g->inv_cell);
-        sm_slot *s = neighbourhood(job, slots, cc);
-        if (!s) { job->failed = 1; return; }
-        const float *x = s->buf, *y = x + s->cap, *z = y + s->cap, *f = z + s->cap;
-        float lk[8] = {0}, lf[8] = {0};
-        for (size_t i = 0; i < s->n; i += 8)
-            for (int l = 0; l < 8; l++) {
-                float dx = x[i + l] - p[0], dy = y[i + l] - p[1], dz = z[i + l] - p[2];
-                float kw = jm_cubic_w(sqrtf(dx * dx + dy * dy + dz * dz) * inv_h); /* 0 beyond the cell */
-                lk[l] += kw;
-                lf[l] += kw * f[i + l];
-            }
-        float sk = 0.0f, sf = 0.0f;
-        for (int l = 0; l < 8; l++) sk += lk[l], sf += lf[l];
-        float t = sk > 0.0f ? clamp01(sf / sk) : 0.0f;
-        job->w[v] = t * t * t * (t * (6.0f * t - 15.0f) + 10.0f);
+        int64_t k0[3];
+        float t[3], c[8];
+        for (int i = 0; i < 3; i++) {
+            float q = p[i] * inv_half, fq = floorf(q);
+            k0[i] = (int64_t)fq;
+            t[i] = q - fq;
+        }
+        for (int i = 0; i < 8; i++) {
+            int64_t k[3] = {k0[0] + (i & 1), k0[1] + ((i >> 1) & 1), k0[2] + (i >> 2)};
+            c[i] = corner_value(job, worker, k);
+            if (c[i] < 0.0f) { job->failed = 1; return; }
+        }
+        float x00 = c[0] + t[0] * (c[1] - c[0]), x10 = c[2] + t[0] * (c[3] - c[2]);
+        float x01 = c[4] + t[0] * (c[5] - c[4]), x11 = c[6] + t[0] * (c[7] - c[6]);
+        float y0 = x00 + t[1] * (x10 - x00), y1 = x01 + t[1] * (x11 - x01);
+        float x = clamp01(y0 + t[2] * (y1 - y0));
+        job->w[v] = x * x * x * (x * (6.0f * x - 15.0f) + 10.0f);
     }
 }
 
@@ -299,6 +343,27 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP };
+
+/* Buffer k of the scratch with room for at least `bytes` (contents
+ * undefined); NULL when out of memory. */
+static void *scratch_buf(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes)
+{
+    if (bytes == 0) bytes = 1;
+    if (s->bytes[k] >= bytes) return s->p[k];
+    size_t want = bytes + bytes / 4;
+    jm_free(mem, s->p[k], s->bytes[k]);
+    s->p[k] = jm_alloc(mem, want);
+    s->bytes[k] = s->p[k] ? want : 0;
+    return s->p[k];
+}
+
+void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
+{
+    for (int k = 0; k < JM_POST_BUFS; k++) jm_free(mem, s->p[k], s->bytes[k]);
+    memset(s, 0, sizeof *s);
+}
+
 static uint32_t find_root(uint32_t *parent, uint32_t v)
 {
     while (parent[v] != v) {
@@ -337,7 +402,8 @@ static void sts_steps(int k, float *tau)
     }
 }
 
-jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const jm_grid *g, jm_post_mesh *m)
+jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const jm_config *c, const jm_grid *g,
+                         jm_post_mesh *m)
 {
     const size_t nv = m->nv_lattice, ni = m->ni_lattice;
     const int iters = c->smooth_iters, niters = c->smooth_normal_iters;
@@ -348,18 +414,20 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
     jm_status st = JM_OK;
     size_t nchunks = (nv + CH - 1) / CH;
     size_t nidx = ni ? ni : 1;
-    uint32_t *start = jm_calloc(mem, nv + 1, sizeof *start);
-    uint32_t *nb = jm_alloc(mem, nidx * sizeof *nb), *nc = jm_alloc(mem, nidx * sizeof *nc);
-    float *w = jm_alloc(mem, nv * sizeof *w);
-    float *buf = jm_alloc(mem, nv * 3 * sizeof *buf);
+    uint32_t *start = scratch_buf(sc, mem, B_START, (nv + 1) * sizeof *start);
+    uint32_t *nb = scratch_buf(sc, mem, B_NB, nidx * sizeof *nb), *nc = scratch_buf(sc, mem, B_NC, nidx * sizeof *nc);
+    float *w = scratch_buf(sc, mem, B_W, nv * sizeof *w);
+    float *buf = scratch_buf(sc, mem, B_BUF, nv * 3 * sizeof *buf);
     float *phi = NULL, *area = NULL;
     uint32_t *comp = NULL;
     double *vol0 = NULL;
     size_t ncomp = 0;
     sm_slot *slots = NULL;
+    sm_corner *corners = NULL;
     sm_job job;
     memset(&job, 0, sizeof job);
     if (!start || !nb || !nc || !w || !buf) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    memset(start, 0, (nv + 1) * sizeof *start);
 
     /* the fans: per vertex, for each triangle around it in triangle order,
      * the two other corners counter-clockwise */
@@ -387,14 +455,16 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
     job.area = NULL;
 
     if (iters > 0) {
-        phi = jm_alloc(mem, (g->n ? g->n : 1) * sizeof *phi);
-        area = jm_alloc(mem, nv * 3 * sizeof *area);
-        comp = jm_alloc(mem, nv * sizeof *comp);
+        phi = scratch_buf(sc, mem, B_PHI, g->n * sizeof *phi);
+        area = scratch_buf(sc, mem, B_AREA, nv * 3 * sizeof *area);
+        comp = scratch_buf(sc, mem, B_COMP, nv * sizeof *comp);
         slots = jm_calloc(mem, (size_t)threads * NSLOT, sizeof *slots);
-        if (!phi || !area || !comp || !slots) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        corners = jm_calloc(mem, (size_t)threads * NCORNER, sizeof *corners);
+        if (!phi || !area || !comp || !slots || !corners) { st = JM_E_OUT_OF_MEMORY; goto out; }
         fullness(c, g, phi);
         job.phi = phi;
         job.slots = slots;
+        job.corners = corners;
         job.area = area;
         jm_pool_run(pool, nchunks, 1, weight_task, &job);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto out; }
@@ -413,7 +483,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
             label[v] = r == v ? (uint32_t)ncomp++ : label[r];
         }
         memcpy(comp, label, nv * sizeof *comp);
-        vol0 = jm_alloc(mem, ncomp * 4 * sizeof *vol0);
+        vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
         piece_volumes(m, comp, vol0, ncomp);
@@ -471,7 +541,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
         /* buf keeps the unsmoothed normals: the fallback of a sum that vanishes */
         float *a = m->nrm, *b = buf, *keep = NULL;
         if (niters > 0) {
-            keep = area ? area : jm_alloc(mem, nv * 3 * sizeof *keep);
+            keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
             if (!keep) { st = JM_E_OUT_OF_MEMORY; goto out; }
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
         }
@@ -485,7 +555,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, const jm_config *c, const j
         job.src = keep ? keep : m->nrm;
         job.tau = 1.0f; /* normalise */
         jm_pool_run(pool, nchunks, 1, finish_task, &job);
-        if (keep && keep != area) jm_free(mem, keep, nv * 3 * sizeof *keep);
     } else if (c->uv_mode != JM_UV_NONE) {
         job.tau = 0.0f; /* planar UVs: no normals to normalise */
         jm_pool_run(pool, nchunks, 1, finish_task, &job);
@@ -495,14 +564,6 @@ out:
     if (slots)
         for (size_t i = 0; i < (size_t)threads * NSLOT; i++) jm_free(mem, slots[i].buf, slots[i].cap * 4 * sizeof(float));
     jm_free(mem, slots, (size_t)threads * NSLOT * sizeof *slots);
-    jm_free(mem, start, (nv + 1) * sizeof *start);
-    jm_free(mem, nb, nidx * sizeof *nb);
-    jm_free(mem, nc, nidx * sizeof *nc);
-    jm_free(mem, w, nv * sizeof *w);
-    jm_free(mem, buf, nv * 3 * sizeof *buf);
-    jm_free(mem, phi, (g->n ? g->n : 1) * sizeof *phi);
-    jm_free(mem, area, nv * 3 * sizeof *area);
-    jm_free(mem, comp, nv * sizeof *comp);
-    jm_free(mem, vol0, ncomp * 4 * sizeof *vol0);
+    jm_free(mem, corners, (size_t)threads * NCORNER * sizeof *corners);
     return st;
 }
