@@ -175,18 +175,22 @@ typedef struct jm_params {
                                  exceeds this (JM_E_TOO_LARGE); 0 = no limit */
     /* ---- post-processing, in this order (all off by default) */
     int smooth_iterations;  /**< iterations of feature-weighted Laplacian
-                                 smoothing (Löschner et al. 2023): each vertex
-                                 moves toward the mean of its neighbours by a
-                                 weight from 0 to 1 interpolated from the
-                                 particles' neighbour counts (1 over bulk
-                                 fluid, near 0 for droplets, pairs and thin
-                                 sheets, which keep their shape); then every
-                                 connected piece is moved along its normals
-                                 to enclose its unsmoothed volume again.
-                                 Normals become the smoothed surface's
-                                 (area-weighted mesh normals, blended with the
-                                 field's by the weight); UVs are recomputed.
-                                 0 = off; at most 100000 */
+                                 smoothing (Löschner et al. 2023): each step
+                                 moves every vertex toward the mean of its
+                                 neighbours by a weight from 0 to 1
+                                 interpolated from the particles' neighbour
+                                 counts (1 over bulk fluid, near 0 for
+                                 droplets, pairs and thin sheets, which keep
+                                 their shape; sphere templates never move);
+                                 steps run in cycles of 5 with super time
+                                 stepping sizes (25 iterations smooth like
+                                 about 75 plain steps). Then every connected
+                                 piece is moved along its normals to enclose
+                                 its unsmoothed volume again. Normals become
+                                 the smoothed surface's (area-weighted mesh
+                                 normals, blended with the field's by the
+                                 weight); UVs are recomputed. Triangles are
+                                 unchanged. 0 = off; at most 100000 */
     int smooth_normal_iterations; /**< iterations of normal smoothing (each
                                  normal becomes the unit mean of itself and
                                  its neighbours'), after smoothing; UVs
