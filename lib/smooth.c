@@ -308,8 +308,9 @@ static void normal_task(void *arg, size_t chunk, int worker)
     }
 }
 
-/* One step of normal smoothing: the sum of the vertex's normal and its
- * neighbours' (directions only; normalised after the last step). */
+/* One step of normal smoothing: the mean of the vertex's normal and those of
+ * its neighbours that face the same side (directions only; normalised after
+ * the last step). */
 static void nstep_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
@@ -319,12 +320,15 @@ static void nstep_task(void *arg, size_t chunk, int worker)
     for (size_t v = a; v < b; v++) {
         const float *n = &S[3 * v];
         float t[3] = {n[0], n[1], n[2]};
-        uint32_t s = job->start[v], e = job->start[v + 1];
+        uint32_t s = job->start[v], e = job->start[v + 1], k = 1;
         for (uint32_t i = s; i < e; i++) {
             const float *q = &S[3 * (size_t)job->nb[i]];
+            /* not across a thin sheet or droplet: its other side faces away */
+            if (!(q[0] * n[0] + q[1] * n[1] + q[2] * n[2] > 0.0f)) continue;
             t[0] += q[0], t[1] += q[1], t[2] += q[2];
+            k++;
         }
-        float inv = 1.0f / (float)(e - s + 1);
+        float inv = 1.0f / (float)k;
         float *o = &job->dst[3 * v];
         o[0] = t[0] * inv, o[1] = t[1] * inv, o[2] = t[2] * inv;
     }
