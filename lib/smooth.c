@@ -78,6 +78,9 @@ typedef struct sm_job {
     float *dst;
     float tau;
     float *area;           /* per vertex: area vector (3) */
+    const uint32_t *comp;  /* per vertex: its piece */
+    const double *shift;   /* per piece: the offset at weight 1 */
+    const double *cap;     /* per piece: the largest offset */
 } sm_job;
 
 /* The per-particle count of a particle in bulk fluid at rest: over a lattice
@@ -277,6 +280,24 @@ static void area_task(void *arg, size_t chunk, int worker)
             n[2] += e1[0] * e2[1] - e1[1] * e2[0];
         }
         for (int k = 0; k < 3; k++) job->area[3 * v + k] = 0.5f * n[k];
+    }
+}
+
+/* Volume restoration: moves each vertex along its normal by its weight times
+ * its piece's offset, capped. */
+static void offset_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        double sd = job->shift[job->comp[v]] * job->w[v], cap = job->cap[job->comp[v]];
+        float s = (float)(sd > cap ? cap : (sd < -cap ? -cap : sd)), n[3];
+        if (s == 0.0f) continue;
+        memcpy(n, &job->area[3 * v], sizeof n);
+        float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(l > 0.0f)) continue;
+        for (int k = 0; k < 3; k++) job->m->pos[3 * v + k] += s * n[k] / l;
     }
 }
 
@@ -525,15 +546,10 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
                 vol1[k] = den[k] > 0.0 ? (vol0[k] - vol1[k]) / den[k] : 0.0;
                 tot[k] = 0.05 * sqrt(3.0 * tot[k]);
             }
-            for (size_t v = 0; v < nv; v++) {
-                double sd = vol1[comp[v]] * w[v], cap = tot[comp[v]];
-                float s = (float)(sd > cap ? cap : (sd < -cap ? -cap : sd)), n[3];
-                if (s == 0.0f) continue;
-                memcpy(n, &area[3 * v], sizeof n);
-                float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-                if (!(l > 0.0f)) continue;
-                for (int k = 0; k < 3; k++) m->pos[3 * v + k] += s * n[k] / l;
-            }
+            job.comp = comp;
+            job.shift = vol1;
+            job.cap = tot;
+            jm_pool_run(pool, nchunks, 1, offset_task, &job);
         }
         if (want_nrm) {
             jm_pool_run(pool, nchunks, 1, area_task, &job);
