@@ -20,7 +20,9 @@ DESTDIR ?=
 ALL_CFLAGS   = $(CSTD) $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CFLAGS)
 ALL_CXXFLAGS = -std=c++17 $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CXXFLAGS)
 FMT_LIBS     = -ltinygltf -ldraco -lz
-LIBS         = $(FMT_LIBS) -lstdc++ -lm -pthread
+# the library's only dependency beyond libc: meshoptimizer (lib/simplify.c)
+LIB_LIBS     = -lmeshoptimizer
+LIBS         = $(FMT_LIBS) $(LIB_LIBS) -lstdc++ -lm -pthread
 
 LIB_SRC   := $(wildcard lib/*.c)
 FMT_CSRC  := $(wildcard formats/*.c)
@@ -65,7 +67,7 @@ $(LIBA): $(LIB_OBJ)
 	ar rcs $@ $^
 
 $(LIBSO): $(LIB_OBJ)
-	$(CC) -shared $(SAN) -pthread -o $@ $^ -lm
+	$(CC) -shared $(SAN) -pthread -o $@ $^ $(LIB_LIBS) -lm
 
 $(FMTA): $(FMT_OBJ)
 	@rm -f $@

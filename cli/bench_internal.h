@@ -80,6 +80,8 @@ typedef struct bench_opts {
     size_t nthreads;
     double radius, smoothing, threshold, link;
     int threshold_given;
+    int smooth_iters, smooth_normal_iters; /* post-processing, as jm_params */
+    double simplify;
     double min_time;
     long repeat, warmup, max_repeat;
     tpl_mode templates;

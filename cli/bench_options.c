@@ -43,6 +43,7 @@ static void bench_help(FILE *f)
         "      --smoothing-length L    sph kernel length h relative to R (default 2)\n"
         "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
         "      --link-distance L       metasphere link distance relative to R (default pi)\n"
+        "      --smooth N, --smooth-normals N, --simplify E  post-processing, as convert\n"
         "  -j, --threads LIST          worker threads; 0 = all cores (default 1,CORES)\n"
         "      --templates auto|on|off|both  sphere templates for isolated particles\n"
         "                              (auto: both for spray scenes, on otherwise)\n"
@@ -258,7 +259,8 @@ bad:
 enum {
     B_SCENE = 256, B_FIELD, B_METHOD, B_SMOOTH, B_THRESHOLD, B_LINK, B_TEMPLATES, B_SEED,
     B_INFORMAT, B_MINTIME, B_REPEAT, B_MAXREPEAT, B_WARMUP, B_WRITE, B_WRITEDIR, B_JSON,
-    B_JSONOUT, B_HELP
+    B_JSONOUT, B_HELP,
+    B_POST_SMOOTH, B_POST_NSMOOTH, B_POST_SIMPLIFY
 };
 
 static const struct option bench_long[] = {
@@ -284,6 +286,9 @@ static const struct option bench_long[] = {
     {"json-out", required_argument, 0, B_JSONOUT},
     {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, B_HELP},
+    {"smooth", required_argument, 0, B_POST_SMOOTH},
+    {"smooth-normals", required_argument, 0, B_POST_NSMOOTH},
+    {"simplify", required_argument, 0, B_POST_SIMPLIFY},
     {0, 0, 0, 0},
 };
 
@@ -354,6 +359,23 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
             if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
                 return options_usage_error(CMD, "--radius must be a number above 0, not '%s'", optarg);
             o->radius = d;
+            break;
+        case B_POST_SMOOTH:
+        case B_POST_NSMOOTH: {
+            long l;
+            if (cli_parse_long(optarg, 0, 100000, &l) != 0)
+                return options_usage_error(CMD, "%s must be a whole number from 0 to 100000, not '%s'",
+                                           c == B_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
+            if (c == B_POST_SMOOTH)
+                o->smooth_iters = (int)l;
+            else
+                o->smooth_normal_iters = (int)l;
+            break;
+        }
+        case B_POST_SIMPLIFY:
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= 0) || d > 1000)
+                return options_usage_error(CMD, "--simplify must be a number from 0 to 1000, not '%s'", optarg);
+            o->simplify = d;
             break;
         case B_SMOOTH:
             if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e6)

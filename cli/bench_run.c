@@ -132,6 +132,9 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
     p.link_distance = (float)o->link;
     p.threads = c->threads;
     p.no_templates = !c->templates;
+    p.smooth_iterations = o->smooth_iters;
+    p.smooth_normal_iterations = o->smooth_normal_iters;
+    p.simplify_error = (float)o->simplify;
 
     if (in->loaded != 1) {
         snprintf(c->err, sizeof c->err, "%s", in->err);

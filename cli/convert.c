@@ -646,6 +646,8 @@ static int report(run *r, const job *jb, outcome *oc)
                    st->isolated, st->blocks, st->cells, st->cavities_removed, st->threads,
                    platform_format_bytes(st->peak_bytes, b1, sizeof b1),
                    platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), rec->bytes);
+        if (o->verbose && st->ms_post > 0.0)
+            printf("  post-processing (smoothing, simplification) %.2f ms\n", st->ms_post);
         fflush(stdout);
     }
     return 0;

@@ -99,6 +99,13 @@ void options_convert_help(FILE *f)
         "                              (slower; for final renders of --field sph)\n"
         "      --anisotropic-radius N  its neighbourhood radius, relative to R (default 8)\n"
         "\n"
+        "Post-processing (off by default; in this order):\n"
+        "      --smooth N              N iterations of feature-weighted smoothing: bulk\n"
+        "                              fluid smooth, droplets and sheets kept, volume\n"
+        "                              restored (25 removes SPH \"orange peel\")\n"
+        "      --smooth-normals N      N iterations of normal smoothing (e.g. 10)\n"
+        "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n"
+        "\n"
         "Input and output:\n"
         "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
         "      --frames START:END[:STEP]  select frame numbers; END is inclusive\n"
@@ -162,7 +169,7 @@ enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
     O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
-    O_ANISO, O_ANISO_RADIUS
+    O_ANISO, O_ANISO_RADIUS, O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY
 };
 
 /* options of the cluster block (see SHARDS in jetmesh(1)) */
@@ -205,6 +212,9 @@ static const struct option convert_long[] = {
     {"max-memory", required_argument, 0, O_MAXMEM},
     {"anisotropic", no_argument, 0, O_ANISO},
     {"anisotropic-radius", required_argument, 0, O_ANISO_RADIUS},
+    {"smooth", required_argument, 0, O_POST_SMOOTH},
+    {"smooth-normals", required_argument, 0, O_POST_NSMOOTH},
+    {"simplify", required_argument, 0, O_POST_SIMPLIFY},
     {"quiet", no_argument, 0, 'q'},
     {"verbose", no_argument, 0, 'v'},
     {"help", no_argument, 0, O_HELP},
@@ -318,6 +328,22 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_NOTEMPLATES: o->params.no_templates = 1; break;
         case O_NOCOMP: o->params.no_compensation = 1; break;
         case O_KEEPCAV: o->params.keep_cavities = 1; break;
+        case O_POST_SMOOTH:
+        case O_POST_NSMOOTH:
+            if (cli_parse_long(optarg, 0, 100000, &l) != 0)
+                rc = options_usage_error(cmd, "%s must be a whole number from 0 to 100000, not '%s'",
+                                         c == O_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
+            else if (c == O_POST_SMOOTH)
+                o->params.smooth_iterations = (int)l;
+            else
+                o->params.smooth_normal_iterations = (int)l;
+            break;
+        case O_POST_SIMPLIFY:
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= 0) || d > 1000)
+                rc = options_usage_error(cmd, "--simplify must be a number from 0 to 1000, not '%s'", optarg);
+            else
+                o->params.simplify_error = (float)d;
+            break;
         case O_UVAXIS:
             if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
             else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;

@@ -209,6 +209,7 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
 jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c, const jm_particles *in)
 {
     memset(g, 0, sizeof *g);
+    size_t refused = 0; /* the memory a refusal over the limit would have needed */
     size_t n = in->count;
     size_t stride = in->stride ? in->stride : 3 * sizeof(float);
     if (n > UINT32_MAX / 2) return JM_E_TOO_LARGE;
@@ -381,6 +382,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         if (total > 1000 * (size_t)n) { st = JM_E_TOO_DENSE; goto fail; }
         /* 24 bytes a link: checked against the limit before it is taken */
         if (c->max_bytes && atomic_load(&mem->current) + g->nb_count * 24 > c->max_bytes) {
+            refused = atomic_load(&mem->current) + g->nb_count * 24;
             st = JM_E_TOO_LARGE;
             goto fail;
         }
@@ -398,5 +400,6 @@ fail:
     jm_free(mem, pcell, (n ? n : 1) * sizeof *pcell);
     jm_free(mem, order, (n ? n : 1) * sizeof *order);
     jm_grid_free(g, mem);
+    g->refused_bytes = refused;
     return st;
 }

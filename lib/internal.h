@@ -66,6 +66,9 @@ typedef struct jm_config {
     float an_lambda;   /* centre smoothing */
     float an_kr, an_ks, an_kn;
     int an_neps;
+    int smooth_iters;        /* post.h: feature-weighted smoothing iterations */
+    int smooth_normal_iters; /* normal smoothing iterations */
+    float simplify_error;    /* world units; 0 = no simplification */
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);
@@ -144,6 +147,8 @@ typedef struct jm_grid {
     float *an;            /* sph anisotropic: JM_AN_STRIDE floats per sorted
                              particle (see anisotropy.h) */
     float an_reach;       /* largest |centre - x| + ellipsoid box half-side */
+    size_t refused_bytes; /* after a JM_E_TOO_LARGE of jm_grid_build: the
+                             memory it would have needed */
 } jm_grid;
 
 

@@ -249,6 +249,37 @@ typedef struct jm_params {
     int aniso_min_neighbours; /**< N_eps: neighbours within r_n (itself not
                                  counted) below which a kernel stays
                                  isotropic; default 25 (r_n / 8r)^3, >= 3 */
+    /* ---- post-processing, in this order (all off by default) */
+    int smooth_iterations;  /**< iterations of feature-weighted Laplacian
+                                 smoothing (Löschner et al. 2023): each step
+                                 moves every vertex toward the mean of its
+                                 neighbours by a weight from 0 to 1
+                                 interpolated from the particles' neighbour
+                                 counts (1 over bulk fluid, near 0 for
+                                 droplets, pairs and thin sheets, which keep
+                                 their shape; sphere templates never move);
+                                 steps run in cycles of 5 with super time
+                                 stepping sizes (25 iterations smooth like
+                                 about 75 plain steps). Then every connected
+                                 piece is moved along its normals to enclose
+                                 its unsmoothed volume again. Normals become
+                                 the smoothed surface's (area-weighted mesh
+                                 normals, blended with the field's by the
+                                 weight); UVs are recomputed. Triangles are
+                                 unchanged. 0 = off; at most 100000 */
+    int smooth_normal_iterations; /**< iterations of normal smoothing (each
+                                 normal becomes the unit mean of itself and
+                                 its neighbours'), after smoothing; UVs
+                                 follow. 0 = off; at most 100000 */
+    float simplify_error;   /**< simplify the final mesh (meshoptimizer edge
+                                 collapses) to at most this geometric error,
+                                 relative to r (e.g. 0.1); surviving vertices
+                                 keep their positions, normals and UVs. The
+                                 result is checked closed and manifold; if a
+                                 collapse ever pinched it, the error is halved
+                                 (twice) and then the mesh left unsimplified.
+                                 Sphere templates of isolated particles are
+                                 simplified too, never smoothed. 0 = off */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
@@ -296,6 +327,8 @@ typedef struct jm_stats {
     int threads;          /**< worker threads used */
     size_t cavities_removed; /**< sub-particle cavities removed (see
                                   jm_params.keep_cavities) */
+    double ms_post;       /**< smoothing, normal smoothing, simplification
+                               (not part of the other stages; in ms_total) */
 } jm_stats;
 
 typedef struct jm_context jm_context;

@@ -1,6 +1,7 @@
 /* mesh.c - the context and the frame pipeline: grid, active blocks, batches, stitching, templates. */
 #include "block.h"
 #include "cavities.h"
+#include "post.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -29,6 +30,7 @@ struct jm_context {
     uint32_t *t_idx;
     size_t t_nv, t_ni;
     float t_origin[3];
+    jm_post_scratch post; /* post-processing arrays (post.h) */
 };
 
 static int cpu_count(void)
@@ -116,6 +118,7 @@ void jm_context_free(jm_context *ctx)
     jm_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
     jm_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
     jm_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    jm_post_scratch_free(&ctx->post, &ctx->mem);
     jm_pool_free(ctx->pool);
     free(ctx);
 }
@@ -439,7 +442,10 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
 
     jm_grid g;
     s = jm_grid_build(&g, mem, ctx->pool, c, in);
-    if (s != JM_OK) return s;
+    if (s != JM_OK) {
+        st->estimated_bytes = g.refused_bytes; /* the neighbour links over the limit */
+        return s;
+    }
     jm_config frame_cfg;
     if (c->aniso) {
         /* anisotropic kernels: the band reaches as far as this frame's kernels */
@@ -579,6 +585,12 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             s = JM_E_OUT_OF_MEMORY;
             goto out_job;
         }
+        /* the sphere templates (after tmpl_v0/tmpl_i0) are outward shells,
+         * never removed: what went was before them */
+        if (g.n_isolated) {
+            job.tmpl_v0 -= ctx->nv - nv;
+            job.tmpl_i0 -= ctx->ni - ni;
+        }
         ctx->nv = nv;
         ctx->ni = ni;
     }
@@ -593,6 +605,21 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     }
     st->ms_extract += t_stitch + t_cav;
     st->ms_attributes += t4 - t3 - t_cav;
+
+    /* post-processing (post.h) */
+    if (c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f) {
+        jm_post_mesh pm = {ctx->pos, ctx->nrm, ctx->uv, ctx->idx, ctx->nv, ctx->ni, ctx->nv, ctx->ni};
+        if (g.n_isolated) {
+            pm.nv_lattice = job.tmpl_v0;
+            pm.ni_lattice = job.tmpl_i0;
+        }
+        s = jm_smooth_mesh(mem, ctx->pool, &ctx->post, c, &g, &pm);
+        if (s == JM_OK) s = jm_simplify_mesh(mem, c, &pm);
+        if (s != JM_OK) goto out_job;
+        ctx->nv = pm.nv;
+        ctx->ni = pm.ni;
+        st->ms_post += jm_now_ms() - t4;
+    }
 
 out_job:
     if (job.iso) jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
@@ -617,6 +644,8 @@ static jm_status make_template(jm_context *ctx)
     jm_config c = ctx->cfg;
     c.templates = 0;
     c.uv_mode = JM_UV_NONE;
+    c.smooth_iters = c.smooth_normal_iters = 0;
+    c.simplify_error = 0.0f;
     c.normals = 1;
     /* at a lattice node: the symmetric shape (and splashsurf's test case) */
     ctx->t_origin[0] = ctx->t_origin[1] = ctx->t_origin[2] = 0.0f;

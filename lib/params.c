@@ -106,6 +106,9 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
         c->an_kn = p.aniso_iso_scale;
         c->an_neps = p.aniso_min_neighbours;
     }
+    c->smooth_iters = p.smooth_iterations;
+    c->smooth_normal_iters = p.smooth_normal_iterations;
+    c->simplify_error = p.simplify_error * r;
     if (f) *f = p;
     return JM_OK;
 }

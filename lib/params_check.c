@@ -89,5 +89,12 @@ jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
             return refuse(out, "aniso_min_neighbours", p->aniso_min_neighbours, 0, 0, INT_MAX, 0,
                           "0 (the default) or more");
     }
+    if (p->smooth_iterations < 0 || p->smooth_iterations > 100000)
+        return refuse(out, "smooth_iterations", p->smooth_iterations, 0, 0, 100000, 0, "0 (off) to 100000");
+    if (p->smooth_normal_iterations < 0 || p->smooth_normal_iterations > 100000)
+        return refuse(out, "smooth_normal_iterations", p->smooth_normal_iterations, 0, 0, 100000, 0,
+                      "0 (off) to 100000");
+    if (!isfinite(p->simplify_error) || p->simplify_error < 0.0f || p->simplify_error > 1000.0f)
+        return refuse(out, "simplify_error", p->simplify_error, 0, 0, 1000, 0, "0 (off) to 1000 (times radius)");
     return JM_OK;
 }

@@ -1,0 +1,589 @@
+/* smooth.c - feature-weighted Laplacian mesh smoothing with volume restoration, then normals, normal smoothing, UVs. */
+#include "post.h"
+#include "block.h"
+#include <string.h>
+
+/*
+ * Weights. After Löschner, Böttcher, Jeske and Bender (2023), "Weighted
+ * Laplacian Smoothing for Surface Reconstruction of Particle-based Fluids":
+ * every particle gets a distance-weighted count of its neighbours, the counts
+ * are interpolated to the vertices (Shepard, cubic spline over one grid cell:
+ * the SPH support; evaluated on a lattice of half a cell, about 2r, and
+ * trilinearly between its nodes) and mapped through a smoothstep, so vertices over bulk
+ * fluid move with weight near 1 while droplets, pairs and thin sheets barely
+ * move. The count is the one the pipeline already has: the SPH kernel sum
+ * 1/V_j (sph) or the links' sum of 1 - (D/L)^2 (metasphere), normalised by its
+ * value in bulk fluid at the rest spacing 2r (1 means bulk, 0 a lone
+ * particle), as splashsurf normalises its count by 13, the bulk value of its
+ * own count.
+ *
+ * Steps. Each step moves vertex v to x_v + tau w_v (mean of its neighbours -
+ * x_v), all vertices at once from the previous positions (Jacobi), so the
+ * result does not depend on the thread count. Plain steps (tau <= 1) diffuse
+ * slowly: bumps k edges wide need about k^2 steps. The steps are therefore
+ * grouped in cycles of 5 with the step sizes of super time stepping
+ * (Alexiades, Amiez and Gremaud 1996, damping nu = 0.02), ordered large and
+ * small alternately: a cycle of 5 smooths like 15 plain steps and still damps
+ * every frequency; within a cycle no mode grows more than 21-fold, harmless
+ * in float.
+ *
+ * Volume. Laplacian smoothing shrinks: afterwards every connected piece of
+ * the mesh is moved along its normals, in proportion to the weights, to
+ * enclose its original volume again (one linearised step; no
+ * vertex moves more than 5 % of its piece's size, so a small void that the
+ * smoothing nearly closed stays small instead of asking for a huge offset).
+ *
+ * Normals. The area-weighted mesh normals of the new surface, blended with
+ * the field's normals by the weight: the field's gradient at a moved vertex
+ * describes the bumpy surface the vertex left, not the smooth one it is on,
+ * and where nothing moved (weight 0) the field's normal is the exact one.
+ * Normal smoothing averages each normal with its neighbours' (Jacobi), and
+ * the UVs are computed again from the final positions and normals.
+ */
+
+#define CH 2048    /* vertices per task */
+#define CYCLE 5    /* steps per super-time-stepping cycle */
+#define STS_NU 0.02
+#define NSLOT 16   /* cached particle neighbourhoods per worker */
+#define NCORNER 512 /* cached corner values per worker */
+
+typedef struct sm_slot {
+    int64_t cell[3];
+    int used;
+    float *buf;    /* x[cap], y[cap], z[cap], phi[cap] */
+    size_t n, cap; /* padded to 8 */
+} sm_slot;
+
+typedef struct sm_corner {
+    int64_t k[3];
+    float v;
+    int used;
+} sm_corner;
+
+typedef struct sm_job {
+    const jm_config *c;
+    const jm_grid *g;
+    jm_post_mesh *m;
+    jm_mem *mem;
+    size_t nv;
+    const uint32_t *start; /* nv+1 offsets into nb, nc */
+    const uint32_t *nb;    /* per incident triangle of v: the next corner */
+    const uint32_t *nc;    /* ... and the one after it */
+    const float *phi;      /* per sorted particle: fullness in [0, 1] */
+    float *w;              /* per vertex smoothing weight */
+    sm_slot *slots;        /* NSLOT per worker */
+    sm_corner *corners;    /* NCORNER per worker */
+    int failed;
+    const float *src;
+    float *dst;
+    float tau;
+    float *area;           /* per vertex: area vector (3) */
+    const uint32_t *comp;  /* per vertex: its piece */
+    const double *shift;   /* per piece: the offset at weight 1 */
+    const double *cap;     /* per piece: the largest offset */
+} sm_job;
+
+/* The per-particle count of a particle in bulk fluid at rest: over a lattice
+ * of spacing 2r around it. */
+static float bulk_count(const jm_config *c)
+{
+    double R = c->field == JM_FIELD_SPH ? c->support : c->link, s = 2.0 * c->r, sum = 0.0;
+    int k = (int)ceil(R / s);
+    if (k > 48) k = 48;
+    for (int z = -k; z <= k; z++)
+        for (int y = -k; y <= k; y++)
+            for (int x = -k; x <= k; x++) {
+                double d = s * sqrt((double)(x * x + y * y + z * z));
+                if (d >= R) continue;
+                if (c->field == JM_FIELD_SPH)
+                    sum += jm_cubic_w((float)(d / c->sph_h));
+                else if (d > 0.0)
+                    sum += 1.0 - (d / R) * (d / R);
+            }
+    return (float)sum;
+}
+
+static inline float clamp01(float x) { return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x); }
+
+/* Particle fullness (0 alone, 1 bulk) from the counts the grid already holds. */
+static void fullness(const jm_config *c, const jm_grid *g, float *phi)
+{
+    float bulk = bulk_count(c);
+    if (c->field == JM_FIELD_SPH) {
+        float den = bulk > 1.5f ? bulk - 1.0f : 0.5f; /* the particle itself counts 1 */
+        for (size_t i = 0; i < g->n; i++) phi[i] = clamp01((1.0f / g->weight[i] - 1.0f) / den);
+    } else {
+        float den = bulk > 0.5f ? bulk : 0.5f, inv_l2 = 1.0f / (c->link * c->link);
+        for (size_t i = 0; i < g->n; i++) {
+            float s = 0.0f;
+            for (uint32_t e = g->nb_start[i]; e < g->nb_start[i + 1]; e++) {
+                float D = g->nb_dir[4 * (size_t)e + 3];
+                s += 1.0f - D * D * inv_l2;
+            }
+            phi[i] = clamp01(s / den);
+        }
+    }
+}
+
+/* The particles of the 27 grid cells around cell cc, as padded arrays. */
+static sm_slot *neighbourhood(sm_job *job, sm_slot *slots, const int64_t cc[3])
+{
+    unsigned h = (unsigned)((uint64_t)(cc[0] * 73856093 ^ cc[1] * 19349663 ^ cc[2] * 83492791) % NSLOT);
+    sm_slot *s = &slots[h];
+    if (s->used && s->cell[0] == cc[0] && s->cell[1] == cc[1] && s->cell[2] == cc[2]) return s;
+    const jm_grid *g = job->g;
+    uint32_t r[27][2];
+    int nr = 0;
+    size_t n = 0;
+    for (int dz = -1; dz <= 1; dz++)
+        for (int dy = -1; dy <= 1; dy++)
+            for (int dx = -1; dx <= 1; dx++) {
+                uint32_t ci = jm_grid_cell(g, cc[0] + dx, cc[1] + dy, cc[2] + dz);
+                if (ci == UINT32_MAX) continue;
+                r[nr][0] = g->cell_start[ci];
+                r[nr][1] = g->cell_start[ci + 1];
+                n += r[nr][1] - r[nr][0];
+                nr++;
+            }
+    size_t cap = (n + 7) & ~(size_t)7;
+    if (cap > s->cap) {
+        float *b = jm_realloc(job->mem, s->buf, s->cap * 4 * sizeof(float), cap * 4 * sizeof(float));
+        if (!b) return NULL;
+        s->buf = b;
+        s->cap = cap;
+    }
+    float *x = s->buf, *y = x + s->cap, *z = y + s->cap, *f = z + s->cap;
+    size_t t = 0;
+    for (int k = 0; k < nr; k++)
+        for (uint32_t j = r[k][0]; j < r[k][1]; j++, t++) {
+            x[t] = g->pos[3 * (size_t)j];
+            y[t] = g->pos[3 * (size_t)j + 1];
+            z[t] = g->pos[3 * (size_t)j + 2];
+            f[t] = job->phi[j];
+        }
+    for (; t < cap; t++) x[t] = y[t] = z[t] = 1e30f, f[t] = 0.0f;
+    s->n = cap;
+    s->used = 1;
+    memcpy(s->cell, cc, sizeof s->cell);
+    return s;
+}
+
+/* The particles' fullness interpolated at lattice corner k (spacing half a
+ * grid cell): Shepard, cubic spline of support one grid cell, sums in 8 lanes
+ * in a fixed order; -1 when out of memory. A pure function of k, cached. */
+static float corner_value(sm_job *job, int worker, const int64_t k[3])
+{
+    sm_corner *cs = &job->corners[(size_t)worker * NCORNER];
+    unsigned h = (unsigned)((uint64_t)(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791) % NCORNER);
+    sm_corner *e = &cs[h];
+    if (e->used && e->k[0] == k[0] && e->k[1] == k[1] && e->k[2] == k[2]) return e->v;
+    const jm_grid *g = job->g;
+    const float half = 0.5f * g->cell, inv_h = 2.0f / g->cell;
+    float p[3];
+    int64_t cc[3];
+    for (int a = 0; a < 3; a++) {
+        p[a] = (float)k[a] * half;
+        cc[a] = (int64_t)floorf(p[a] * g->inv_cell);
+    }
+    sm_slot *s = neighbourhood(job, &job->slots[(size_t)worker * NSLOT], cc);
+    if (!s) return -1.0f;
+    const float *x = s->buf, *y = x + s->cap, *z = y + s->cap, *f = z + s->cap;
+    float lk[8] = {0}, lf[8] = {0};
+    for (size_t i = 0; i < s->n; i += 8)
+        for (int l = 0; l < 8; l++) {
+            float dx = x[i + l] - p[0], dy = y[i + l] - p[1], dz = z[i + l] - p[2];
+            float kw = jm_cubic_w(sqrtf(dx * dx + dy * dy + dz * dz) * inv_h); /* 0 beyond the cell */
+            lk[l] += kw;
+            lf[l] += kw * f[i + l];
+        }
+    float sk = 0.0f, sf = 0.0f;
+    for (int l = 0; l < 8; l++) sk += lk[l], sf += lf[l];
+    e->v = sk > 0.0f ? clamp01(sf / sk) : 0.0f;
+    memcpy(e->k, k, sizeof e->k);
+    e->used = 1;
+    return e->v;
+}
+
+/* Vertex weights: the fullness interpolated trilinearly from the corners of
+ * the vertex's half-cell (the field varies on the particle scale; the
+ * vertices lie four times closer), then the smoothstep. */
+static void weight_task(void *arg, size_t chunk, int worker)
+{
+    sm_job *job = arg;
+    const float inv_half = 2.0f * job->g->inv_cell;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        const float *p = &job->m->pos[3 * v];
+        int64_t k0[3];
+        float t[3], c[8];
+        for (int i = 0; i < 3; i++) {
+            float q = p[i] * inv_half, fq = floorf(q);
+            k0[i] = (int64_t)fq;
+            t[i] = q - fq;
+        }
+        for (int i = 0; i < 8; i++) {
+            int64_t k[3] = {k0[0] + (i & 1), k0[1] + ((i >> 1) & 1), k0[2] + (i >> 2)};
+            c[i] = corner_value(job, worker, k);
+            if (c[i] < 0.0f) { job->failed = 1; return; }
+        }
+        float x00 = c[0] + t[0] * (c[1] - c[0]), x10 = c[2] + t[0] * (c[3] - c[2]);
+        float x01 = c[4] + t[0] * (c[5] - c[4]), x11 = c[6] + t[0] * (c[7] - c[6]);
+        float y0 = x00 + t[1] * (x10 - x00), y1 = x01 + t[1] * (x11 - x01);
+        float x = clamp01(y0 + t[2] * (y1 - y0));
+        job->w[v] = x * x * x * (x * (6.0f * x - 15.0f) + 10.0f);
+    }
+}
+
+/* One step: dst = src + tau w (mean of the neighbours - src). */
+static void step_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    const float *S = job->src;
+    for (size_t v = a; v < b; v++) {
+        const float *p = &S[3 * v];
+        float *o = &job->dst[3 * v];
+        uint32_t s = job->start[v], e = job->start[v + 1];
+        float k = job->w[v] * job->tau;
+        if (e == s || k == 0.0f) {
+            o[0] = p[0], o[1] = p[1], o[2] = p[2];
+            continue;
+        }
+        float sx = 0.0f, sy = 0.0f, sz = 0.0f;
+        for (uint32_t i = s; i < e; i++) {
+            const float *q = &S[3 * (size_t)job->nb[i]];
+            sx += q[0], sy += q[1], sz += q[2];
+        }
+        float inv = 1.0f / (float)(e - s);
+        o[0] = p[0] + k * (sx * inv - p[0]);
+        o[1] = p[1] + k * (sy * inv - p[1]);
+        o[2] = p[2] + k * (sz * inv - p[2]);
+    }
+}
+
+/* Area vector of each vertex's fan: the sum of its triangles' cross products / 2. */
+static void area_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    const float *P = job->m->pos;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        const float *p = &P[3 * v];
+        float n[3] = {0.0f, 0.0f, 0.0f};
+        for (uint32_t i = job->start[v]; i < job->start[v + 1]; i++) {
+            const float *q = &P[3 * (size_t)job->nb[i]], *s = &P[3 * (size_t)job->nc[i]];
+            float e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
+            n[0] += e1[1] * e2[2] - e1[2] * e2[1];
+            n[1] += e1[2] * e2[0] - e1[0] * e2[2];
+            n[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        }
+        for (int k = 0; k < 3; k++) job->area[3 * v + k] = 0.5f * n[k];
+    }
+}
+
+/* Volume restoration: moves each vertex along its normal by its weight times
+ * its piece's offset, capped. */
+static void offset_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        double sd = job->shift[job->comp[v]] * job->w[v], cap = job->cap[job->comp[v]];
+        float s = (float)(sd > cap ? cap : (sd < -cap ? -cap : sd)), n[3];
+        if (s == 0.0f) continue;
+        memcpy(n, &job->area[3 * v], sizeof n);
+        float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(l > 0.0f)) continue;
+        for (int k = 0; k < 3; k++) job->m->pos[3 * v + k] += s * n[k] / l;
+    }
+}
+
+static inline void normalize3(float *n, const float *fallback)
+{
+    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (l > 0.0f) {
+        n[0] /= l, n[1] /= l, n[2] /= l;
+    } else {
+        n[0] = fallback[0], n[1] = fallback[1], n[2] = fallback[2];
+    }
+}
+
+/* Normals of the smoothed surface: the area-weighted mesh normal blended with
+ * the field normal by the vertex weight. */
+static void normal_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        float *n = &job->m->nrm[3 * v], t[3];
+        memcpy(t, &job->area[3 * v], sizeof t);
+        normalize3(t, n);
+        float w = job->w[v];
+        for (int k = 0; k < 3; k++) t[k] = w * t[k] + (1.0f - w) * n[k];
+        normalize3(t, n);
+        memcpy(n, t, sizeof t);
+    }
+}
+
+/* One step of normal smoothing: the mean of the vertex's normal and those of
+ * its neighbours that face the same side (directions only; normalised after
+ * the last step). */
+static void nstep_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    const float *S = job->src;
+    for (size_t v = a; v < b; v++) {
+        const float *n = &S[3 * v];
+        float t[3] = {n[0], n[1], n[2]};
+        uint32_t s = job->start[v], e = job->start[v + 1], k = 1;
+        for (uint32_t i = s; i < e; i++) {
+            const float *q = &S[3 * (size_t)job->nb[i]];
+            /* not across a thin sheet or droplet: its other side faces away */
+            if (!(q[0] * n[0] + q[1] * n[1] + q[2] * n[2] > 0.0f)) continue;
+            t[0] += q[0], t[1] += q[1], t[2] += q[2];
+            k++;
+        }
+        float inv = 1.0f / (float)k;
+        float *o = &job->dst[3 * v];
+        o[0] = t[0] * inv, o[1] = t[1] * inv, o[2] = t[2] * inv;
+    }
+}
+
+/* Normalises the normals (if tau > 0; src the fallback) and sets the UVs. */
+static void finish_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        float *n = &job->m->nrm[3 * v];
+        if (job->tau > 0.0f) normalize3(n, &job->src[3 * v]);
+        if (job->c->uv_mode != JM_UV_NONE) jm_uv(job->c, &job->m->pos[3 * v], n, &job->m->uv[2 * v]);
+    }
+}
+
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP };
+
+/* Buffer k of the scratch with room for at least `bytes` (contents
+ * undefined); NULL when out of memory. */
+static void *scratch_buf(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes)
+{
+    if (bytes == 0) bytes = 1;
+    if (s->bytes[k] >= bytes) return s->p[k];
+    size_t want = bytes + bytes / 4;
+    jm_free(mem, s->p[k], s->bytes[k]);
+    s->p[k] = jm_alloc(mem, want);
+    s->bytes[k] = s->p[k] ? want : 0;
+    return s->p[k];
+}
+
+void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
+{
+    for (int k = 0; k < JM_POST_BUFS; k++) jm_free(mem, s->p[k], s->bytes[k]);
+    memset(s, 0, sizeof *s);
+}
+
+static uint32_t find_root(uint32_t *parent, uint32_t v)
+{
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+/* Signed volume of each connected piece (comp[] of a triangle's first corner). */
+static void piece_volumes(const jm_post_mesh *m, const uint32_t *comp, double *vol, size_t ncomp)
+{
+    memset(vol, 0, ncomp * sizeof *vol);
+    const float *P = m->pos;
+    for (size_t t = 0; t + 2 < m->ni_lattice; t += 3) {
+        const float *a = &P[3 * (size_t)m->idx[t]], *b = &P[3 * (size_t)m->idx[t + 1]], *c = &P[3 * (size_t)m->idx[t + 2]];
+        double cx = (double)b[1] * c[2] - (double)b[2] * c[1];
+        double cy = (double)b[2] * c[0] - (double)b[0] * c[2];
+        double cz = (double)b[0] * c[1] - (double)b[1] * c[0];
+        vol[comp[m->idx[t]]] += (a[0] * cx + a[1] * cy + a[2] * cz) / 6.0;
+    }
+}
+
+/* The step sizes of one super-time-stepping cycle of k steps, largest and
+ * smallest alternately. */
+static void sts_steps(int k, float *tau)
+{
+    double t[CYCLE];
+    for (int j = 0; j < k; j++)
+        t[j] = 0.95 / ((STS_NU - 1.0) * cos((2.0 * j + 1.0) * M_PI / (2.0 * k)) + 1.0 + STS_NU);
+    /* t[] is decreasing: take from both ends */
+    int lo = 0, hi = k - 1, o = 0;
+    while (lo <= hi) {
+        tau[o++] = (float)t[lo++];
+        if (lo <= hi) tau[o++] = (float)t[hi--];
+    }
+}
+
+jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const jm_config *c, const jm_grid *g,
+                         jm_post_mesh *m)
+{
+    const size_t nv = m->nv_lattice, ni = m->ni_lattice;
+    const int iters = c->smooth_iters, niters = c->smooth_normal_iters;
+    if (nv == 0 || (iters == 0 && niters == 0)) return JM_OK;
+    /* as block.c: normals exist when output or needed for the UVs */
+    const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
+    const int threads = jm_pool_threads(pool);
+    jm_status st = JM_OK;
+    size_t nchunks = (nv + CH - 1) / CH;
+    size_t nidx = ni ? ni : 1;
+    uint32_t *start = scratch_buf(sc, mem, B_START, (nv + 1) * sizeof *start);
+    uint32_t *nb = scratch_buf(sc, mem, B_NB, nidx * sizeof *nb), *nc = scratch_buf(sc, mem, B_NC, nidx * sizeof *nc);
+    float *w = scratch_buf(sc, mem, B_W, nv * sizeof *w);
+    float *buf = scratch_buf(sc, mem, B_BUF, nv * 3 * sizeof *buf);
+    float *phi = NULL, *area = NULL;
+    uint32_t *comp = NULL;
+    double *vol0 = NULL;
+    size_t ncomp = 0;
+    sm_slot *slots = NULL;
+    sm_corner *corners = NULL;
+    sm_job job;
+    memset(&job, 0, sizeof job);
+    if (!start || !nb || !nc || !w || !buf) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    memset(start, 0, (nv + 1) * sizeof *start);
+
+    /* the fans: per vertex, for each triangle around it in triangle order,
+     * the two other corners counter-clockwise */
+    for (size_t t = 0; t < ni; t++) start[m->idx[t] + 1]++;
+    for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
+    for (size_t t = 0; t + 2 < ni; t += 3) {
+        const uint32_t *T = &m->idx[t];
+        uint32_t i0 = start[T[0]]++, i1 = start[T[1]]++, i2 = start[T[2]]++;
+        nb[i0] = T[1], nc[i0] = T[2];
+        nb[i1] = T[2], nc[i1] = T[0];
+        nb[i2] = T[0], nc[i2] = T[1];
+    }
+    memmove(start + 1, start, nv * sizeof *start);
+    start[0] = 0;
+
+    job.c = c;
+    job.g = g;
+    job.m = m;
+    job.mem = mem;
+    job.nv = nv;
+    job.start = start;
+    job.nb = nb;
+    job.nc = nc;
+    job.w = w;
+    job.area = NULL;
+
+    if (iters > 0) {
+        phi = scratch_buf(sc, mem, B_PHI, g->n * sizeof *phi);
+        area = scratch_buf(sc, mem, B_AREA, nv * 3 * sizeof *area);
+        comp = scratch_buf(sc, mem, B_COMP, nv * sizeof *comp);
+        slots = jm_calloc(mem, (size_t)threads * NSLOT, sizeof *slots);
+        corners = jm_calloc(mem, (size_t)threads * NCORNER, sizeof *corners);
+        if (!phi || !area || !comp || !slots || !corners) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        fullness(c, g, phi);
+        job.phi = phi;
+        job.slots = slots;
+        job.corners = corners;
+        job.area = area;
+        jm_pool_run(pool, nchunks, 1, weight_task, &job);
+        if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto out; }
+
+        /* connected pieces: union-find, roots the smallest vertex, labels in
+         * vertex order (buf holds them for a moment) */
+        for (size_t v = 0; v < nv; v++) comp[v] = (uint32_t)v;
+        for (size_t t = 0; t + 2 < ni; t += 3)
+            for (int k = 1; k < 3; k++) {
+                uint32_t ra = find_root(comp, m->idx[t]), rb = find_root(comp, m->idx[t + k]);
+                if (ra != rb) comp[ra > rb ? ra : rb] = ra < rb ? ra : rb;
+            }
+        uint32_t *label = (uint32_t *)buf;
+        for (size_t v = 0; v < nv; v++) {
+            uint32_t r = find_root(comp, (uint32_t)v);
+            label[v] = r == v ? (uint32_t)ncomp++ : label[r];
+        }
+        memcpy(comp, label, nv * sizeof *comp);
+        vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
+        if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
+        piece_volumes(m, comp, vol0, ncomp);
+
+        float *a = m->pos, *b = buf, tau[CYCLE];
+        for (int it = 0; it < iters; it += CYCLE) {
+            int k = iters - it < CYCLE ? iters - it : CYCLE;
+            sts_steps(k, tau);
+            for (int s = 0; s < k; s++) {
+                job.src = a;
+                job.dst = b;
+                job.tau = tau[s];
+                jm_pool_run(pool, nchunks, 1, step_task, &job);
+                float *t = a; a = b; b = t;
+            }
+        }
+        if (a != m->pos) memcpy(m->pos, a, nv * 3 * sizeof *a);
+
+        /* restore each piece's volume: vertex v moves by w_v s along its
+         * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
+        for (int pass = 0; pass < 2; pass++) {
+            jm_pool_run(pool, nchunks, 1, area_task, &job);
+            piece_volumes(m, comp, vol1, ncomp);
+            memset(den, 0, 2 * ncomp * sizeof *den);
+            for (size_t v = 0; v < nv; v++) {
+                const float *A = &area[3 * v];
+                double a = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
+                den[comp[v]] += (double)w[v] * a;
+                tot[comp[v]] += a;
+            }
+            /* each vertex's offset at most 5 % of its piece's size (the square
+             * root of its area): small voids that smoothing nearly closes
+             * would otherwise ask for huge ones */
+            for (size_t k = 0; k < ncomp; k++) {
+                vol1[k] = den[k] > 0.0 ? (vol0[k] - vol1[k]) / den[k] : 0.0;
+                tot[k] = 0.05 * sqrt(3.0 * tot[k]);
+            }
+            job.comp = comp;
+            job.shift = vol1;
+            job.cap = tot;
+            jm_pool_run(pool, nchunks, 1, offset_task, &job);
+        }
+        if (want_nrm) {
+            jm_pool_run(pool, nchunks, 1, area_task, &job);
+            jm_pool_run(pool, nchunks, 1, normal_task, &job);
+        }
+    }
+
+    if (want_nrm) {
+        /* buf keeps the unsmoothed normals: the fallback of a sum that vanishes */
+        float *a = m->nrm, *b = buf, *keep = NULL;
+        if (niters > 0) {
+            keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
+            if (!keep) { st = JM_E_OUT_OF_MEMORY; goto out; }
+            memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
+        }
+        for (int it = 0; it < niters; it++) {
+            job.src = a;
+            job.dst = b;
+            jm_pool_run(pool, nchunks, 1, nstep_task, &job);
+            float *t = a; a = b; b = t;
+        }
+        if (a != m->nrm) memcpy(m->nrm, a, nv * 3 * sizeof *a);
+        job.src = keep ? keep : m->nrm;
+        job.tau = 1.0f; /* normalise */
+        jm_pool_run(pool, nchunks, 1, finish_task, &job);
+    } else if (c->uv_mode != JM_UV_NONE) {
+        job.tau = 0.0f; /* planar UVs: no normals to normalise */
+        jm_pool_run(pool, nchunks, 1, finish_task, &job);
+    }
+
+out:
+    if (slots)
+        for (size_t i = 0; i < (size_t)threads * NSLOT; i++) jm_free(mem, slots[i].buf, slots[i].cap * 4 * sizeof(float));
+    jm_free(mem, slots, (size_t)threads * NSLOT * sizeof *slots);
+    jm_free(mem, corners, (size_t)threads * NCORNER * sizeof *corners);
+    return st;
+}
