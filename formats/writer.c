@@ -11,6 +11,7 @@
 #include "draco_wrap.h"
 #include "draco_bits.h"
 #include "gltf_wrap.h"
+#include "gltf_anim.h"
 #include "write_formats.h"
 
 static const char *const k_names[] = {"auto", "obj", "gltf", "glb", "drc", "ply", "vtk"};
@@ -134,6 +135,20 @@ static jmf_draco_params draco_params(const jmf_write_options *opt, const jm_mesh
         if (opt->draco_speed > 0) p.speed = opt->draco_speed;
     }
     return p;
+}
+
+void jmf_write_gltf_params(const jmf_write_options *opt, const jm_mesh *mesh, int draco, const char *name,
+                           jmf_gltf_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->container = JMF_GLTF_BINARY;
+    p->generator = default_generator(opt);
+    p->z_up = opt ? opt->z_up : 0;
+    p->draco = draco;
+    p->draco_params = draco_params(opt, draco ? mesh : NULL);
+    p->name = name;
+    p->attributes = opt ? opt->attributes : NULL;
+    p->attribute_count = opt ? opt->attribute_count : 0;
 }
 
 static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
