@@ -4,7 +4,7 @@
 set -e
 what=${1:-all}
 build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev libdraco-dev libcmocka-dev"
-test_pkgs="draco mandoc clang valgrind libclang-rt-14-dev libxml2-utils strace"
+test_pkgs="draco mandoc clang valgrind libclang-rt-14-dev libxml2-utils strace blender"
 case "$what" in
   build) pkgs="$build_pkgs" ;;
   test|all) pkgs="$build_pkgs $test_pkgs" ;;
