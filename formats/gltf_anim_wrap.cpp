@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,9 +27,10 @@ struct jmf_anim {
     jmf_atomic_file scratch;        // the frames' bytes: the .bin of a .gltf, else a temporary
     bool scratch_open = false;
     size_t size = 0;                // bytes in scratch
-    tinygltf::Model m;
-    std::vector<long> numbers;
-    std::vector<int> time_acc;      // per node: its times accessor
+    // The JSON, as compact text per top-level array: a few hundred bytes a
+    // frame (no model of the whole sequence is kept)
+    std::string accessors, views, meshes, nodes, samplers, channels, numbers;
+    size_t naccessors = 0, nviews = 0, nmeshes = 0, nnodes = 0;
     bool draco = false, any_mesh = false;
     int no_sync = 0;
 };
@@ -54,21 +54,76 @@ jmf_status put(jmf_anim *a, const void *d, size_t n, char *err, size_t errlen)
     return st;
 }
 
-int add_view(tinygltf::Model &m, size_t off, size_t len)
+// ", " between the items of a JSON array kept as text
+void item(std::string &list, const std::string &text)
 {
-    tinygltf::BufferView v;
-    v.buffer = 0;
-    v.byteOffset = off;
-    v.byteLength = len;
-    m.bufferViews.push_back(v);
-    return static_cast<int>(m.bufferViews.size() - 1);
+    if (!list.empty()) list += ',';
+    list += text;
 }
 
-// The three shared STEP outputs: scale [1,0] for frame 0, [0,1,0] after
-// it, [1] for a sequence of one frame; accessors made on first use.
-struct Outputs {
-    int one = -1, two = -1, three = -1;
-};
+std::string num(double v)
+{
+    char b[40];
+    std::snprintf(b, sizeof b, "%.9g", v);
+    return b;
+}
+
+std::string quoted(const std::string &s)
+{
+    std::string o = "\"";
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') {
+            o += '\\';
+            o += static_cast<char>(c);
+        } else if (c < 0x20) {
+            char b[8];
+            std::snprintf(b, sizeof b, "\\u%04x", c);
+            o += b;
+        } else {
+            o += static_cast<char>(c);
+        }
+    }
+    return o + "\"";
+}
+
+const char *type_name(int t)
+{
+    switch (t) {
+    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+    case TINYGLTF_TYPE_VEC2: return "VEC2";
+    case TINYGLTF_TYPE_VEC3: return "VEC3";
+    default: return "VEC4";
+    }
+}
+
+// One bufferView (offset into the buffer) and its index.
+size_t add_view(jmf_anim *a, size_t off, size_t len, int target)
+{
+    std::string v = "{\"buffer\":0,\"byteLength\":" + std::to_string(len) + ",\"byteOffset\":" +
+                    std::to_string(off);
+    if (target) v += ",\"target\":" + std::to_string(target);
+    item(a->views, v + "}");
+    return a->nviews++;
+}
+
+// One accessor (view < 0: none, Draco fills it) and its index.
+size_t add_accessor(jmf_anim *a, long view, int component, int type, size_t count, const std::vector<double> &mn,
+                    const std::vector<double> &mx)
+{
+    std::string t = "{";
+    if (view >= 0) t += "\"bufferView\":" + std::to_string(view) + ",";
+    t += "\"componentType\":" + std::to_string(component) + ",\"count\":" + std::to_string(count);
+    auto arr = [](const std::vector<double> &v) {
+        std::string o = "[";
+        for (size_t i = 0; i < v.size(); i++) o += (i ? "," : "") + num(v[i]);
+        return o + "]";
+    };
+    if (!mx.empty()) t += ",\"max\":" + arr(mx);
+    if (!mn.empty()) t += ",\"min\":" + arr(mn);
+    t += ",\"type\":\"" + std::string(type_name(type)) + "\"}";
+    item(a->accessors, t);
+    return a->naccessors++;
+}
 
 } // namespace
 
@@ -148,8 +203,6 @@ extern "C" jmf_status jmf_anim_open(const char *path, int glb, const jmf_write_o
     }
     a->scratch.no_sync = a->no_sync;
     a->scratch_open = true;
-    a->m.asset.version = "2.0";
-    a->m.asset.generator = a->generator;
     *out = a;
     return JMF_OK;
 }
@@ -159,8 +212,8 @@ extern "C" jmf_status jmf_anim_add(jmf_anim *a, const char *node_name, long numb
 {
     jmf_status st = JMF_OK;
     try {
-        tinygltf::Node node;
-        node.name = node_name ? node_name : "frame";
+        const std::string name = node_name ? node_name : "frame";
+        std::string node = "{";
         if (piece && !piece->m.meshes.empty()) {
             st = put(a, nullptr, 0, err, errlen); // align
             const size_t base = a->size;
@@ -169,37 +222,41 @@ extern "C" jmf_status jmf_anim_add(jmf_anim *a, const char *node_name, long numb
                 delete piece;
                 return st;
             }
-            const int vbase = static_cast<int>(a->m.bufferViews.size());
-            const int abase = static_cast<int>(a->m.accessors.size());
-            for (tinygltf::BufferView v : piece->m.bufferViews) {
-                v.byteOffset += base;
-                a->m.bufferViews.push_back(v);
+            // the piece's views and accessors, renumbered after those in the file
+            const size_t vbase = a->nviews, abase = a->naccessors;
+            for (const tinygltf::BufferView &v : piece->m.bufferViews)
+                add_view(a, base + v.byteOffset, v.byteLength, v.target);
+            for (const tinygltf::Accessor &ac : piece->m.accessors)
+                add_accessor(a, ac.bufferView >= 0 ? static_cast<long>(vbase) + ac.bufferView : -1, ac.componentType,
+                             ac.type, ac.count, ac.minValues, ac.maxValues);
+            const tinygltf::Primitive &pr = piece->m.meshes[0].primitives[0];
+            std::string at;
+            for (const auto &kv : pr.attributes)
+                item(at, quoted(kv.first) + ":" + std::to_string(abase + static_cast<size_t>(kv.second)));
+            std::string prim = "{\"attributes\":{" + at + "}";
+            auto e = pr.extensions.find(kDraco);
+            if (e != pr.extensions.end()) {
+                const tinygltf::Value &ext = e->second;
+                std::string ids;
+                const tinygltf::Value &attrs = ext.Get("attributes");
+                for (const std::string &k : attrs.Keys())
+                    item(ids, quoted(k) + ":" + std::to_string(attrs.Get(k).GetNumberAsInt()));
+                prim += ",\"extensions\":{\"" + std::string(kDraco) + "\":{\"attributes\":{" + ids +
+                        "},\"bufferView\":" + std::to_string(vbase + static_cast<size_t>(ext.Get("bufferView").GetNumberAsInt())) +
+                        "}}";
+                a->draco = true;
             }
-            for (tinygltf::Accessor ac : piece->m.accessors) {
-                if (ac.bufferView >= 0) ac.bufferView += vbase;
-                a->m.accessors.push_back(ac);
-            }
-            tinygltf::Mesh gm = piece->m.meshes[0];
-            gm.name = node.name;
-            for (tinygltf::Primitive &pr : gm.primitives) {
-                for (auto &kv : pr.attributes) kv.second += abase;
-                if (pr.indices >= 0) pr.indices += abase;
-                auto e = pr.extensions.find(kDraco);
-                if (e != pr.extensions.end()) {
-                    tinygltf::Value::Object o = e->second.Get<tinygltf::Value::Object>();
-                    o["bufferView"] = tinygltf::Value(o["bufferView"].GetNumberAsInt() + vbase);
-                    e->second = tinygltf::Value(o);
-                    a->draco = true;
-                }
-            }
-            a->m.meshes.push_back(gm);
-            node.mesh = static_cast<int>(a->m.meshes.size() - 1);
+            prim += ",\"indices\":" + std::to_string(abase + static_cast<size_t>(pr.indices)) +
+                    ",\"material\":0,\"mode\":4}";
+            item(a->meshes, "{\"name\":" + quoted(name) + ",\"primitives\":[" + prim + "]}");
+            node += "\"mesh\":" + std::to_string(a->nmeshes++) + ",";
             a->any_mesh = true;
         }
         delete piece;
         piece = nullptr;
+        item(a->nodes, node + "\"name\":" + quoted(name) + "}");
         // this node's key times: 0, k/fps, (k+1)/fps (frame 0: 0, 1/fps)
-        const size_t k = a->numbers.size();
+        const size_t k = a->nnodes++;
         float t[3];
         size_t nt = 0;
         if (k > 0) t[nt++] = 0.0f;
@@ -207,17 +264,16 @@ extern "C" jmf_status jmf_anim_add(jmf_anim *a, const char *node_name, long numb
         t[nt++] = static_cast<float>(static_cast<double>(k + 1) / a->fps);
         st = put(a, t, nt * 4, err, errlen);
         if (st) return st;
-        tinygltf::Accessor ta;
-        ta.bufferView = add_view(a->m, a->size - nt * 4, nt * 4);
-        ta.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        ta.type = TINYGLTF_TYPE_SCALAR;
-        ta.count = nt;
-        ta.minValues = {t[0]};
-        ta.maxValues = {t[nt - 1]};
-        a->m.accessors.push_back(ta);
-        a->time_acc.push_back(static_cast<int>(a->m.accessors.size() - 1));
-        a->m.nodes.push_back(node);
-        a->numbers.push_back(number);
+        const size_t view = add_view(a, a->size - nt * 4, nt * 4, 0);
+        const size_t acc = add_accessor(a, static_cast<long>(view), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                        TINYGLTF_TYPE_SCALAR, nt, {t[0]}, {t[nt - 1]});
+        // the output: [1,0] for frame 0, [0,1,0] after it (accessors 0 and 1
+        // of the outputs, made at the end: their indices are fixed up then)
+        item(a->samplers, "{\"input\":" + std::to_string(acc) + ",\"interpolation\":\"STEP\",\"output\":@" +
+                              (k == 0 ? "2" : "3") + "}");
+        item(a->channels, "{\"sampler\":" + std::to_string(k) + ",\"target\":{\"node\":" + std::to_string(k) +
+                              ",\"path\":\"scale\"}}");
+        item(a->numbers, std::to_string(number));
     } catch (const std::bad_alloc &) {
         delete piece;
         std::snprintf(err, errlen, "%s: out of memory", a->path.c_str());
@@ -228,94 +284,63 @@ extern "C" jmf_status jmf_anim_add(jmf_anim *a, const char *node_name, long numb
 
 namespace {
 
-// The animation, the scene and the extras, once every frame is in.
-jmf_status close_model(jmf_anim *a, char *err, size_t errlen)
+// The whole JSON, once every frame is in: the two shared outputs of the
+// STEP samplers, the animation, the scene, the material and the extras.
+jmf_status to_json(jmf_anim *a, std::string &json, char *err, size_t errlen)
 {
-    tinygltf::Model &m = a->m;
-    const size_t n = m.nodes.size();
-    // the shared outputs: [0,1,0], [1,0], [1] as VEC3 scales
-    static const float v3[9] = {0, 0, 0, 1, 1, 1, 0, 0, 0};
-    static const float v2[6] = {1, 1, 1, 0, 0, 0};
-    int out3 = -1, out2 = -1, out1 = -1;
-    auto scales = [&](const float *v, size_t count) -> int {
-        if (put(a, v, count * 12, err, errlen)) return -1;
-        tinygltf::Accessor ac;
-        ac.bufferView = add_view(m, a->size - count * 12, count * 12);
-        ac.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-        ac.type = TINYGLTF_TYPE_VEC3;
-        ac.count = count;
-        m.accessors.push_back(ac);
-        return static_cast<int>(m.accessors.size() - 1);
-    };
-    if (n > 1) {
-        out3 = scales(v3, 3);
-        if (out3 < 0) return JMF_E_IO;
+    static const float v2[6] = {1, 1, 1, 0, 0, 0};          // frame 0: shown, then hidden
+    static const float v3[9] = {0, 0, 0, 1, 1, 1, 0, 0, 0}; // hidden, shown, hidden
+    size_t out[2];
+    const float *src[2] = {v2, v3};
+    for (int i = 0; i < 2; i++) {
+        const size_t count = i == 0 ? 2 : 3;
+        jmf_status st = put(a, src[i], count * 12, err, errlen);
+        if (st) return st;
+        const size_t view = add_view(a, a->size - count * 12, count * 12, 0);
+        out[i] = add_accessor(a, static_cast<long>(view), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
+                              count, {}, {});
     }
-    out2 = scales(v2, 2);
-    if (out2 < 0) return JMF_E_IO;
-    (void)out1;
-    tinygltf::Animation anim;
-    anim.name = "sequence";
-    tinygltf::Scene scene;
-    scene.name = "jetmesh";
-    for (size_t k = 0; k < n; k++) {
-        tinygltf::AnimationSampler s;
-        s.input = a->time_acc[k];
-        s.output = k == 0 ? out2 : out3;
-        s.interpolation = "STEP";
-        anim.samplers.push_back(s);
-        tinygltf::AnimationChannel c;
-        c.sampler = static_cast<int>(k);
-        c.target_node = static_cast<int>(k);
-        c.target_path = "scale";
-        anim.channels.push_back(c);
-        scene.nodes.push_back(static_cast<int>(k));
-    }
-    if (n) m.animations.push_back(anim);
-    m.scenes.push_back(scene);
-    m.defaultScene = 0;
-    if (a->any_mesh) jmf_gltf_add_material(m);
-    if (a->draco) {
-        m.extensionsUsed.push_back(kDraco);
-        m.extensionsRequired.push_back(kDraco);
-    }
-    tinygltf::Value::Object seq, ex;
-    seq["fps"] = tinygltf::Value(a->fps);
-    seq["frames"] = tinygltf::Value(static_cast<int>(n));
-    tinygltf::Value::Array nums;
-    for (long v : a->numbers) nums.push_back(tinygltf::Value(static_cast<int>(v)));
-    seq["frame_numbers"] = tinygltf::Value(nums);
-    ex["jetmesh_sequence"] = tinygltf::Value(seq);
-    m.asset.extras = tinygltf::Value(ex);
-    return JMF_OK;
-}
-
-// The model as JSON, with the one buffer of size bytes (uri: .gltf only).
-bool to_json(jmf_anim *a, std::string &json)
-{
-    tinygltf::TinyGLTF gltf;
-    std::ostringstream ts;
-    const bool pretty = !a->glb;
-    if (!gltf.WriteGltfSceneToStream(&a->m, ts, pretty, false)) return false;
-    json = ts.str();
-    const size_t close = json.rfind('}');
-    if (close == std::string::npos) return false;
-    if (a->size) {
-        size_t end = close;
-        while (end > 0 && (json[end - 1] == '\n' || json[end - 1] == ' ')) end--;
-        const std::string len = std::to_string(a->size);
-        std::string uri;
-        if (!a->glb) {
-            const size_t slash = a->bin_path.rfind('/');
-            uri = jmf_gltf_uri_encode(slash == std::string::npos ? a->bin_path.c_str()
-                                                                  : a->bin_path.c_str() + slash + 1);
+    std::string samplers;
+    samplers.reserve(a->samplers.size() + a->samplers.size() / 8);
+    for (size_t i = 0; i < a->samplers.size(); i++) {
+        if (a->samplers[i] == '@') {
+            samplers += std::to_string(out[a->samplers[i + 1] == '2' ? 0 : 1]);
+            i++;
+        } else {
+            samplers += a->samplers[i];
         }
-        const std::string entry = pretty ? ",\n  \"buffers\": [\n    {\n      \"byteLength\": " + len +
-                                               ",\n      \"uri\": \"" + uri + "\"\n    }\n  ]\n"
-                                         : ",\"buffers\":[{\"byteLength\":" + len + "}]";
-        json = json.substr(0, end) + entry + json.substr(close);
     }
-    return true;
+    std::string().swap(a->samplers);
+    std::string scene;
+    for (size_t k = 0; k < a->nnodes; k++) item(scene, std::to_string(k));
+    json.reserve(a->accessors.size() + a->views.size() + a->meshes.size() + a->nodes.size() + samplers.size() +
+                 a->channels.size() + scene.size() + a->numbers.size() + 1024);
+    json = "{\"accessors\":[" + a->accessors + "]";
+    std::string().swap(a->accessors);
+    if (a->nnodes)
+        json += ",\"animations\":[{\"channels\":[" + a->channels + "],\"name\":\"sequence\",\"samplers\":[" +
+                samplers + "]}]";
+    json += ",\"asset\":{\"extras\":{\"jetmesh_sequence\":{\"fps\":" + num(a->fps) + ",\"frame_numbers\":[" +
+            a->numbers + "],\"frames\":" + std::to_string(a->nnodes) + "}},\"generator\":" + quoted(a->generator) +
+            ",\"version\":\"2.0\"}";
+    json += ",\"bufferViews\":[" + a->views + "]";
+    json += ",\"buffers\":[{\"byteLength\":" + std::to_string(a->size);
+    if (!a->glb) {
+        const size_t slash = a->bin_path.rfind('/');
+        json += ",\"uri\":" + quoted(jmf_gltf_uri_encode(slash == std::string::npos ? a->bin_path.c_str()
+                                                                                      : a->bin_path.c_str() + slash + 1));
+    }
+    json += "}]";
+    if (a->draco)
+        json += ",\"extensionsRequired\":[\"" + std::string(kDraco) + "\"],\"extensionsUsed\":[\"" +
+                std::string(kDraco) + "\"]";
+    if (a->any_mesh)
+        json += ",\"materials\":[{\"emissiveFactor\":[0,0,0],\"name\":\"jetmesh\",\"pbrMetallicRoughness\":"
+                "{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":0.5}}]";
+    if (a->nmeshes) json += ",\"meshes\":[" + a->meshes + "]";
+    json += ",\"nodes\":[" + a->nodes + "],\"scene\":0,\"scenes\":[{\"name\":\"jetmesh\",\"nodes\":[" + scene +
+            "]}]}";
+    return JMF_OK;
 }
 
 } // namespace
@@ -327,11 +352,7 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
     jmf_status st = JMF_OK;
     std::string json;
     try {
-        st = close_model(a, err, errlen);
-        if (!st && !to_json(a, json)) {
-            std::snprintf(err, errlen, "%s: tinygltf could not serialize the model", a->path.c_str());
-            st = JMF_E_FORMAT;
-        }
+        st = to_json(a, json, err, errlen);
     } catch (const std::bad_alloc &) {
         std::snprintf(err, errlen, "%s: out of memory", a->path.c_str());
         st = JMF_E_NOMEM;
