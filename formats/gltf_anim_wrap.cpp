@@ -286,7 +286,7 @@ namespace {
 
 // The whole JSON, once every frame is in: the two shared outputs of the
 // STEP samplers, the animation, the scene, the material and the extras.
-jmf_status to_json(jmf_anim *a, std::string &json, char *err, size_t errlen)
+jmf_status to_json(jmf_anim *a, std::vector<std::string> &json, char *err, size_t errlen)
 {
     static const float v2[6] = {1, 1, 1, 0, 0, 0};          // frame 0: shown, then hidden
     static const float v3[9] = {0, 0, 0, 1, 1, 1, 0, 0, 0}; // hidden, shown, hidden
@@ -313,33 +313,47 @@ jmf_status to_json(jmf_anim *a, std::string &json, char *err, size_t errlen)
     std::string().swap(a->samplers);
     std::string scene;
     for (size_t k = 0; k < a->nnodes; k++) item(scene, std::to_string(k));
-    json.reserve(a->accessors.size() + a->views.size() + a->meshes.size() + a->nodes.size() + samplers.size() +
-                 a->channels.size() + scene.size() + a->numbers.size() + 1024);
-    json = "{\"accessors\":[" + a->accessors + "]";
-    std::string().swap(a->accessors);
-    if (a->nnodes)
-        json += ",\"animations\":[{\"channels\":[" + a->channels + "],\"name\":\"sequence\",\"samplers\":[" +
-                samplers + "]}]";
-    json += ",\"asset\":{\"extras\":{\"jetmesh_sequence\":{\"fps\":" + num(a->fps) + ",\"frame_numbers\":[" +
-            a->numbers + "],\"frames\":" + std::to_string(a->nnodes) + "}},\"generator\":" + quoted(a->generator) +
-            ",\"version\":\"2.0\"}";
-    json += ",\"bufferViews\":[" + a->views + "]";
-    json += ",\"buffers\":[{\"byteLength\":" + std::to_string(a->size);
+    // in pieces, the large ones moved in (never one more copy of them)
+    auto add = [&json](std::string &&t) { json.push_back(std::move(t)); };
+    add("{\"accessors\":[");
+    add(std::move(a->accessors));
+    add("]");
+    if (a->nnodes) {
+        add(",\"animations\":[{\"channels\":[");
+        add(std::move(a->channels));
+        add("],\"name\":\"sequence\",\"samplers\":[");
+        add(std::move(samplers));
+        add("]}]");
+    }
+    add(",\"asset\":{\"extras\":{\"jetmesh_sequence\":{\"fps\":" + num(a->fps) + ",\"frame_numbers\":[");
+    add(std::move(a->numbers));
+    add("],\"frames\":" + std::to_string(a->nnodes) + "}},\"generator\":" + quoted(a->generator) +
+        ",\"version\":\"2.0\"},\"bufferViews\":[");
+    add(std::move(a->views));
+    std::string b = "],\"buffers\":[{\"byteLength\":" + std::to_string(a->size);
     if (!a->glb) {
         const size_t slash = a->bin_path.rfind('/');
-        json += ",\"uri\":" + quoted(jmf_gltf_uri_encode(slash == std::string::npos ? a->bin_path.c_str()
-                                                                                      : a->bin_path.c_str() + slash + 1));
+        b += ",\"uri\":" + quoted(jmf_gltf_uri_encode(slash == std::string::npos ? a->bin_path.c_str()
+                                                                                   : a->bin_path.c_str() + slash + 1));
     }
-    json += "}]";
+    b += "}]";
     if (a->draco)
-        json += ",\"extensionsRequired\":[\"" + std::string(kDraco) + "\"],\"extensionsUsed\":[\"" +
-                std::string(kDraco) + "\"]";
+        b += ",\"extensionsRequired\":[\"" + std::string(kDraco) + "\"],\"extensionsUsed\":[\"" + std::string(kDraco) +
+             "\"]";
     if (a->any_mesh)
-        json += ",\"materials\":[{\"emissiveFactor\":[0,0,0],\"name\":\"jetmesh\",\"pbrMetallicRoughness\":"
-                "{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":0.5}}]";
-    if (a->nmeshes) json += ",\"meshes\":[" + a->meshes + "]";
-    json += ",\"nodes\":[" + a->nodes + "],\"scene\":0,\"scenes\":[{\"name\":\"jetmesh\",\"nodes\":[" + scene +
-            "]}]}";
+        b += ",\"materials\":[{\"emissiveFactor\":[0,0,0],\"name\":\"jetmesh\",\"pbrMetallicRoughness\":"
+             "{\"baseColorFactor\":[0.8,0.8,0.8,1],\"metallicFactor\":0,\"roughnessFactor\":0.5}}]";
+    if (a->nmeshes) b += ",\"meshes\":[";
+    add(std::move(b));
+    if (a->nmeshes) {
+        add(std::move(a->meshes));
+        add("]");
+    }
+    add(",\"nodes\":[");
+    add(std::move(a->nodes));
+    add("],\"scene\":0,\"scenes\":[{\"name\":\"jetmesh\",\"nodes\":[");
+    add(std::move(scene));
+    add("]}]}");
     return JMF_OK;
 }
 
@@ -350,9 +364,11 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
     std::memset(out, 0, sizeof *out);
     if (out_bytes) *out_bytes = 0;
     jmf_status st = JMF_OK;
-    std::string json;
+    std::vector<std::string> json; // the JSON in pieces
+    size_t json_size = 0;
     try {
         st = to_json(a, json, err, errlen);
+        for (const std::string &t : json) json_size += t.size();
     } catch (const std::bad_alloc &) {
         std::snprintf(err, errlen, "%s: out of memory", a->path.c_str());
         st = JMF_E_NOMEM;
@@ -370,7 +386,7 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
     f.no_sync = a->no_sync;
     if (!a->glb) {
         // the .bin is complete: stage it, then the .gltf naming it
-        st = jmf_atomic_write(&f, json.data(), json.size(), err, errlen);
+        for (size_t i = 0; !st && i < json.size(); i++) st = jmf_atomic_write(&f, json[i].data(), json[i].size(), err, errlen);
         if (st) {
             jmf_atomic_abort(&f);
             jmf_anim_abort(a);
@@ -396,9 +412,10 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
         return JMF_OK;
     }
     // GLB: header, JSON chunk, BIN chunk copied from the temporary
-    while (json.size() % 4) json += ' ';
+    const size_t json_padded = (json_size + 3) / 4 * 4;
+    json.push_back(std::string(json_padded - json_size, ' '));
     const size_t bin_padded = (a->size + 3) / 4 * 4;
-    const uint64_t total = 12 + 8 + json.size() + (a->size ? 8 + bin_padded : 0);
+    const uint64_t total = 12 + 8 + json_padded + (a->size ? 8 + bin_padded : 0);
     if (total > 0xffffffffu) {
         std::snprintf(err, errlen, "%s: the sequence is too large for one GLB (over 4 GiB); write .gltf",
                       a->path.c_str());
@@ -413,10 +430,10 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
     std::memcpy(head, "glTF", 4);
     put32(head + 4, 2);
     put32(head + 8, total);
-    put32(head + 12, json.size());
+    put32(head + 12, json_padded);
     std::memcpy(head + 16, "JSON", 4);
     st = jmf_atomic_write(&f, head, 20, err, errlen);
-    if (!st) st = jmf_atomic_write(&f, json.data(), json.size(), err, errlen);
+    for (size_t i = 0; !st && i < json.size(); i++) st = jmf_atomic_write(&f, json[i].data(), json[i].size(), err, errlen);
     if (!st && a->size) {
         put32(head, bin_padded);
         std::memcpy(head + 4, "BIN\0", 4);
