@@ -63,6 +63,18 @@ validate "$T/sep/jet.gltf"
 no_temps
 echo "ok: --animate: one validated file, a node per frame, STEP scale keys 0 / k/fps / (k+1)/fps, Draco, .gltf + .bin"
 
+# streamed: the 100 frames (39 MB of GLB) are not held: the process peaks
+# no higher than a run writing one file per frame (+8 MB of slack)
+run 0 convert "$S/jet_{}.csv" -r 0.025 --animate -o "$T/all.glb" --stats "$T/anim.csv" --frame-jobs 1
+run 0 convert "$S/jet_{}.csv" -r 0.025 -o "$T/pf/j_{}.glb" --stats "$T/pf.csv" --frame-jobs 1
+peak() { awk -F, '$1 == 99 { print int($15 / 1048576) }' "$1"; }
+size=$(($(wc -c <"$T/all.glb") / 1048576))
+[ "$size" -ge 30 ] || fail "the 100-frame GLB is only $size MiB"
+[ "$(peak "$T/anim.csv")" -le $(($(peak "$T/pf.csv") + 8)) ] ||
+    fail "--animate peaked at $(peak "$T/anim.csv") MiB, one file per frame at $(peak "$T/pf.csv") MiB"
+echo "ok: streamed: a $size MiB animated GLB, peak $(peak "$T/anim.csv") MiB (one file per frame: $(peak "$T/pf.csv") MiB)"
+rm -rf "$T/pf" "$T/all.glb"
+
 # usage errors
 run 2 convert "$S/jet_{}.csv" -r 0.025 --animate -o "$T/jet_{}.glb"
 grep -q 'without a frame placeholder' "$T/err" || fail "template with --animate: $(cat "$T/err")"
