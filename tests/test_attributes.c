@@ -170,12 +170,119 @@ static void test_real_velocity(void **state)
     jmf_frame_free(&f);
 }
 
+/* the readers: named arrays from text and binary formats, grouping, the errors */
+static const jmf_attribute *find(const jmf_frame *f, const char *name)
+{
+    for (size_t i = 0; i < f->attribute_count; i++)
+        if (strcmp(f->attributes[i].name, name) == 0) return &f->attributes[i];
+    return NULL;
+}
+
+static void read_mem(const char *text, size_t n, const char *name, const char *want, int drop, jmf_frame *f,
+                     jmf_status expect, char *err)
+{
+    jmf_read_options o = {0};
+    o.attributes = want;
+    o.drop_invalid = drop;
+    jmf_status st = jmf_read_particles_mem(text, n, name, &o, f, err, 512);
+    if (st != expect) fprintf(stderr, "%s: %s\n", name, err);
+    assert_int_equal(st, expect);
+}
+
+static void test_readers(void **state)
+{
+    (void)state;
+    jmf_frame f;
+    char err[512];
+    const jmf_attribute *a;
+    /* CSV: vx vy vz -> velocity, NAME_x/_y/_z -> NAME, others scalars; NaN dropped with its tuple */
+    const char *csv = "x,y,z,vx,vy,vz,omega_x,omega_y,omega_z,density,id\n"
+                      "0,0,0,1,2,3,4,5,6,1000,7\n"
+                      "1,0,0,nan,0,0,0,0,0,1001,8\n"
+                      "2,0,0,7,8,9,1,1,1,1002,9\n";
+    read_mem(csv, strlen(csv), "a.csv", "all", 0, &f, JMF_E_FORMAT, err);
+    assert_non_null(strstr(err, "a.csv: attribute 'velocity' of particle 1 is NaN"));
+    read_mem(csv, strlen(csv), "a.csv", "all", 1, &f, JMF_OK, err);
+    assert_int_equal(f.count, 2);
+    assert_int_equal(f.dropped, 1);
+    assert_int_equal(f.attribute_count, 3);
+    a = find(&f, "velocity");
+    assert_non_null(a);
+    assert_int_equal(a->components, 3);
+    assert_true(a->values[3] == 7 && a->values[4] == 8 && a->values[5] == 9); /* particle 2 moved to 1 */
+    a = find(&f, "omega");
+    assert_true(a && a->components == 3 && a->values[2] == 6);
+    a = find(&f, "density");
+    assert_true(a && a->components == 1 && a->values[1] == 1002);
+    assert_non_null(f.ids);
+    jmf_frame_free(&f);
+    /* nothing asked for: no attributes, no names */
+    read_mem(csv, strlen(csv), "a.csv", NULL, 1, &f, JMF_OK, err);
+    assert_int_equal(f.attribute_count, 0);
+    assert_null(f.array_names);
+    jmf_frame_free(&f);
+    /* a name the file lacks: the error lists what it has */
+    read_mem(csv, strlen(csv), "a.csv", "velocity,pressure", 1, &f, JMF_E_FORMAT, err);
+    assert_non_null(strstr(err, "no per-particle attribute 'pressure' in this file (it has: velocity, omega, density)"));
+
+    /* PLY, binary little-endian, velocity_x/_y/_z + a double density */
+    const char *head = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+                       "property float y\nproperty float z\nproperty float velocity_x\nproperty float velocity_y\n"
+                       "property float velocity_z\nproperty double density\nend_header\n";
+    unsigned char ply[512];
+    size_t n = strlen(head);
+    memcpy(ply, head, n);
+    for (int i = 0; i < 2; i++) {
+        float v[6] = {(float)i, 0, 0, 1.5f + i, -2, 3};
+        double d = 990 + i;
+        memcpy(ply + n, v, 24);
+        memcpy(ply + n + 24, &d, 8);
+        n += 32;
+    }
+    read_mem((const char *)ply, n, "b.ply", "velocity,density", 0, &f, JMF_OK, err);
+    a = find(&f, "velocity");
+    assert_true(a && a->components == 3 && a->values[3] == 2.5f && a->values[4] == -2);
+    a = find(&f, "density");
+    assert_true(a && a->values[1] == 991);
+    jmf_frame_free(&f);
+
+    /* legacy VTK ASCII: VECTORS and SCALARS in POINT_DATA; a short FIELD array */
+    const char *vtk = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 2 float\n0 0 0 1 0 0\n"
+                      "POINT_DATA 2\nVECTORS velocity float\n1 2 3 4 5 6\nSCALARS density float 1\n"
+                      "LOOKUP_TABLE default\n7 8\nFIELD FieldData 1\npressure 1 1 float\n9\n";
+    read_mem(vtk, strlen(vtk), "c.vtk", "velocity,density", 0, &f, JMF_OK, err);
+    a = find(&f, "velocity");
+    assert_true(a && a->values[5] == 6);
+    a = find(&f, "density");
+    assert_true(a && a->values[1] == 8);
+    jmf_frame_free(&f);
+    read_mem(vtk, strlen(vtk), "c.vtk", "pressure", 0, &f, JMF_E_FORMAT, err);
+    assert_non_null(strstr(err, "c.vtk: attribute 'pressure' has 1 values for 2 particles"));
+    /* with all, the short array is an error too: the file is inconsistent */
+    read_mem(vtk, strlen(vtk), "c.vtk", "all", 0, &f, JMF_E_FORMAT, err);
+
+    /* VTU with two pieces: the array concatenated */
+    const char *vtu = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">"
+                      "<UnstructuredGrid><Piece NumberOfPoints=\"1\" NumberOfCells=\"0\"><PointData>"
+                      "<DataArray type=\"Float32\" Name=\"speed\" format=\"ascii\">5</DataArray></PointData>"
+                      "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0"
+                      "</DataArray></Points></Piece><Piece NumberOfPoints=\"1\" NumberOfCells=\"0\"><PointData>"
+                      "<DataArray type=\"Float64\" Name=\"speed\" format=\"ascii\">6</DataArray></PointData>"
+                      "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"ascii\">1 0 0"
+                      "</DataArray></Points></Piece></UnstructuredGrid></VTKFile>\n";
+    read_mem(vtu, strlen(vtu), "d.vtu", "speed", 0, &f, JMF_OK, err);
+    a = find(&f, "speed");
+    assert_true(a && f.count == 2 && a->values[0] == 5 && a->values[1] == 6);
+    jmf_frame_free(&f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reference),
         cmocka_unit_test(test_constant_and_errors),
         cmocka_unit_test(test_real_velocity),
+        cmocka_unit_test(test_readers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
