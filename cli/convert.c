@@ -739,12 +739,12 @@ static void finish_animation(run *r)
     }
 }
 
-/* A VTK or PLY sequence: the .pvd collection beside it for ParaView. */
+/* --pvd, a VTK or PLY sequence: the .pvd collection beside it for ParaView. */
 static void write_pvd(run *r)
 {
     const convert_options *o = r->o;
     int f = o->write.format;
-    if (o->no_pvd || r->njobs < 2 || (f != JMF_OUT_VTK && f != JMF_OUT_PLY))
+    if (!o->pvd || r->njobs < 2 || (f != JMF_OUT_VTK && f != JMF_OUT_PLY))
         return;
     char **files = malloc(r->log.count * sizeof *files);
     double *times = malloc(r->log.count * sizeof *times);
@@ -761,8 +761,11 @@ static void write_pvd(run *r)
     }
     if (!files || !times || !path)
         fprintf(stderr, "jetmesh: out of memory for the .pvd\n");
-    else if (n && pvd_write(path, files, times, n, o->write.no_sync, err, sizeof err) != 0)
+    else if (n && pvd_write(path, files, times, n, o->write.no_sync, err, sizeof err) != 0) {
         fprintf(stderr, "jetmesh: cannot write the ParaView collection: %s\n", err);
+        if (r->worst < EXIT_SOME_FAILED)
+            r->worst = EXIT_SOME_FAILED;
+    }
     else if (n && !o->quiet)
         printf("ParaView collection (%zu frames, %g s apart per frame number) -> %s\n", n, dt, path);
     free(files);

@@ -114,9 +114,9 @@ void options_convert_help(FILE *f)
         "                              see jetmesh --blender-script)\n"
         "      --fps F                 frames per second of --animate and of the .pvd\n"
         "                              times (default 24)\n"
+        "      --pvd                   VTK/PLY sequences: a ParaView collection NAME.pvd\n"
+        "                              beside the frames (time -> file)\n"
         "      --time-step DT          .pvd time per frame number (default 1/fps)\n"
-        "      --no-pvd                no .pvd collection beside a VTK/PLY sequence\n"
-        "                              (written by default for ParaView)\n"
         "      --attributes LIST|all   per-particle arrays (velocity,density,...; from\n"
         "                              VTK, VTU, BGEO, PLY or CSV) interpolated to the\n"
         "                              vertices with SPH weights: glTF _VELOCITY-style\n"
@@ -169,7 +169,7 @@ enum {
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
     O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
     /* sequences for Blender, ParaView and the web */
-    O_ANIMATE = 400, O_FPS, O_TIMESTEP, O_NOPVD, O_ATTRS
+    O_ANIMATE = 400, O_FPS, O_TIMESTEP, O_PVD, O_ATTRS
 };
 
 static const struct option convert_long[] = {
@@ -214,7 +214,7 @@ static const struct option convert_long[] = {
     {"animate", no_argument, 0, O_ANIMATE},
     {"fps", required_argument, 0, O_FPS},
     {"time-step", required_argument, 0, O_TIMESTEP},
-    {"no-pvd", no_argument, 0, O_NOPVD},
+    {"pvd", no_argument, 0, O_PVD},
     {"attributes", required_argument, 0, O_ATTRS},
     {0, 0, 0, 0},
 };
@@ -394,7 +394,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
                 rc = options_usage_error(cmd, "--time-step must be a number above 0, not '%s'", optarg);
             o->time_step = d;
             break;
-        case O_NOPVD: o->no_pvd = 1; break;
+        case O_PVD: o->pvd = 1; break;
         case O_ATTRS:
             if (!*optarg || strspn(optarg, ", ") == strlen(optarg))
                 rc = options_usage_error(cmd, "--attributes needs names (velocity,density) or all");

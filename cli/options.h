@@ -42,7 +42,7 @@ typedef struct convert_options {
     double fps;              /* --fps (default 24) */
     double time_step;        /* --time-step: .pvd time per frame number;
                                 0 = 1 / fps */
-    int no_pvd;              /* --no-pvd */
+    int pvd;                 /* --pvd: a .pvd beside a VTK/PLY sequence */
 } convert_options;
 
 /* The most frames converted at once (each may hold two finished outputs

@@ -175,18 +175,18 @@ no_temps
 echo "ok: missing in some frames, differing frames, wrong length, NaN (error or --drop-invalid)"
 
 # --- 4. ParaView: a .pvd beside VTK and PLY sequences
-run 0 convert "$S/jet_{}.csv" --frames 4:6 -r 0.025 -o "$T/pv/jet_{}.vtk" --time-step 0.5
+run 0 convert "$S/jet_{}.csv" --frames 4:6 -r 0.025 -o "$T/pv/jet_{}.vtk" --pvd --time-step 0.5
 [ -f "$T/pv/jet.pvd" ] || fail "no jet.pvd beside the VTK sequence"
 if command -v xmllint >/dev/null 2>&1; then xmllint --noout "$T/pv/jet.pvd" || fail "jet.pvd is not XML"; fi
 expect "pvd sets" "$(grep -c '<DataSet ' "$T/pv/jet.pvd")" 3
 grep -q 'timestep="2" group="" part="0" file="jet_004.vtk"' "$T/pv/jet.pvd" || { cat "$T/pv/jet.pvd"; fail "pvd time of frame 4"; }
 grep -q 'timestep="3" .*file="jet_006.vtk"' "$T/pv/jet.pvd" || fail "pvd time of frame 6"
-run 0 convert "$S/jet_{}.csv" --frames 4:5 -r 0.025 -o "$T/pp/fluid_{}.ply" --fps 10
+run 0 convert "$S/jet_{}.csv" --frames 4:5 -r 0.025 -o "$T/pp/fluid_{}.ply" --pvd --fps 10
 grep -q 'timestep="0.5" .*file="fluid_005.ply"' "$T/pp/fluid.pvd" || { cat "$T/pp/fluid.pvd"; fail "pvd with --fps"; }
-run 0 convert "$S/jet_{}.csv" --frames 4:5 -r 0.025 -o "$T/pn/f_{}.vtk" --no-pvd
-[ ! -e "$T/pn/f.pvd" ] || fail "--no-pvd wrote a .pvd"
-run 0 convert "$S/jet_{}.csv" --frames 4:5 -r 0.025 -o "$T/pg/f_{}.glb"
+run 0 convert "$S/jet_{}.csv" --frames 4:5 -r 0.025 -o "$T/pn/f_{}.vtk"
+[ ! -e "$T/pn/f.pvd" ] || fail "a .pvd without --pvd"
+run 0 convert "$S/jet_{}.csv" --frames 4:5 -r 0.025 -o "$T/pg/f_{}.glb" --pvd
 [ -z "$(find "$T/pg" -name '*.pvd')" ] || fail "a .pvd beside glTF"
 no_temps
-echo "ok: .pvd beside VTK/PLY sequences, times from --time-step or --fps, --no-pvd"
+echo "ok: --pvd beside VTK/PLY sequences, times from --time-step or --fps; none by default or beside glTF"
 echo "all sequence checks passed"
