@@ -110,6 +110,20 @@ grep -a -q 'property float velocity_z' "$T/ply/f_1.ply" || fail "PLY without vel
 run 0 convert "$T/v/jet_{}.csv" -r 0.025 --attributes density,velocity -o "$T/vtk/f_{}.vtk"
 grep -a -q '^FIELD FieldData 2$' "$T/vtk/f_1.vtk" && grep -a -q '^velocity 3 [0-9]* float$' "$T/vtk/f_1.vtk" ||
     fail "VTK without the FIELD arrays"
+# a constant velocity comes out constant; --z-up rotates it with the mesh: (1,2,3) -> (1,3,-2)
+awk -F, 'NR == 1 { print "x,y,z,velocity_x,velocity_y,velocity_z"; next } { print $0 ",1,2,3" }' "$S/jet_050.csv" >"$T/const.csv"
+run 0 convert "$T/const.csv" -r 0.025 --attributes velocity --z-up -o "$T/const.glb"
+got=$(node -e '
+const b = require("fs").readFileSync(process.argv[1]); const jl = b.readUInt32LE(12);
+const d = JSON.parse(b.toString("utf8", 20, 20 + jl)); const bin = 20 + jl + 8;
+const a = d.accessors[d.meshes[0].primitives[0].attributes._VELOCITY]; const v = d.bufferViews[a.bufferView];
+let bad = 0;
+for (let i = 0; i < a.count; i++) {
+  const o = bin + (v.byteOffset || 0) + 12 * i, w = [1, 3, -2];
+  for (let k = 0; k < 3; k++) if (Math.abs(b.readFloatLE(o + 4 * k) - w[k]) > 1e-6) bad++;
+}
+console.log(a.count > 1000 ? bad : "too few " + a.count);' "$T/const.glb")
+expect "constant z-up velocity mismatches" "$got" 0
 # and they read back as attributes of the written files: PLY and VTK round trip
 run 0 convert "$T/ply/f_1.ply" -r 0.025 --attributes velocity -o "$T/rt.glb"
 run 0 convert "$T/vtk/f_1.vtk" -r 0.025 --attributes velocity,density -o "$T/rt2.ply"
