@@ -80,6 +80,26 @@ static int animate_plan(run *r, seq_kind k)
     return EXIT_ALL_OK;
 }
 
+/* --animate: the one output (every frame names it) is no input, and not
+ * the statistics or the chart either. */
+static int animate_check_output(run *r)
+{
+    const char *out = r->o->output;
+    const char *extra[2] = {r->o->stats_path, r->o->stats_svg};
+    struct stat so, si;
+    for (int k = 0; k < 2; k++)
+        if (extra[k] && strcmp(extra[k], out) == 0)
+            return options_usage_error("convert", "--animate and %s would both write %s",
+                                       k ? "--stats-svg" : "--stats", out);
+    if (stat(out, &so) != 0)
+        return EXIT_ALL_OK;
+    for (size_t j = 0; j < r->njobs; j++)
+        if (stat(r->jobs[j].in->path, &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+            return options_usage_error("convert", "refusing to overwrite the input file %s (with %s)",
+                                       r->jobs[j].in->path, out);
+    return EXIT_ALL_OK;
+}
+
 /* Decides every frame's output path and the output format. */
 static int plan_outputs(run *r)
 {
@@ -195,7 +215,7 @@ static int check_outputs(run *r)
     for (size_t i = 0; i < n; i++)
         outs[i] = r->jobs[i].out;
     qsort(outs, n, sizeof *outs, cmp_str_ptr);
-    for (size_t i = 1; i < n && !r->o->animate; i++) {
+    for (size_t i = 1; i < n; i++) {
         if (strcmp(outs[i - 1], outs[i]) == 0) {
             int rc = options_usage_error("convert",
                                          "two frames would write %s: use a template with {} in -o",
@@ -815,7 +835,8 @@ int cmd_convert(int argc, char **argv)
         rc = options_usage_error("convert", "--frames selects none of the input frames");
         goto done;
     }
-    if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
+    if ((rc = plan_outputs(&r)) != EXIT_ALL_OK ||
+        (rc = o.animate ? animate_check_output(&r) : check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
     choose_field(&r);
     if ((rc = vattrs_resolve_all(o.attributes, &o.read, &r.frames, &o.attributes_all)) != EXIT_ALL_OK)

@@ -83,6 +83,10 @@ grep -q 'NAME.glb or NAME.gltf' "$T/err" || fail "--animate to OBJ: $(cat "$T/er
 run 2 convert "$S/jet_{}.csv" -r 0.025 --animate --resume -o "$T/jet.glb"
 run 2 convert "$S/jet_{}.csv" -r 0.025 --animate --embed -o "$T/jet.gltf"
 run 2 convert "$S/jet_{}.csv" -r 0.025 --fps 0 -o "$T/x.glb"
+cp "$S/jet_001.csv" "$T/in.glb"
+run 2 convert "$S/jet_000.csv" "$T/in.glb" --input-format csv -r 0.025 --animate -o "$T/in.glb"
+grep -q 'refusing to overwrite the input file' "$T/err" || fail "--animate over an input: $(cat "$T/err")"
+cmp -s "$S/jet_001.csv" "$T/in.glb" || fail "--animate overwrote its input"
 
 # a bad frame: without --keep-going nothing is written; with it, an empty node keeps the timing
 mkdir "$T/bad"
