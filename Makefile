@@ -127,6 +127,12 @@ install: all
 	install -m 644 $(LIBA) $(LIBSO) $(DESTDIR)$(PREFIX)/lib/
 	install -m 644 lib/jetmesh.h $(DESTDIR)$(PREFIX)/include/
 	install -m 644 man/jetmesh.1 $(DESTDIR)$(PREFIX)/share/man/man1/
+	@# the Blender importer of sequences (jetmesh --blender-script) and pkg-config
+	install -d $(DESTDIR)$(PREFIX)/share/jetmesh $(DESTDIR)$(PREFIX)/lib/pkgconfig
+	install -m 644 share/jetmesh/jetmesh_blender.py $(DESTDIR)$(PREFIX)/share/jetmesh/
+	sed -e 's|@PREFIX@|$(PREFIX)|' \
+	    -e "s|@VERSION@|$$(sed -n 's/^#define JM_VERSION_STRING \"\(.*\)\"/\1/p' lib/jetmesh.h)|" \
+	    share/jetmesh.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/jetmesh.pc
 
 clean:
 	rm -rf $(BUILD) build-asan build-tsan build-splat1 build-splat2

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "../formats/gltf_anim.h"
 #include "../formats/reader.h"
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
@@ -17,11 +18,13 @@
 #include "param_errors.h"
 #include "platform.h"
 #include "progress.h"
+#include "pvd.h"
 #include "sequence.h"
 #include "shard.h"
 #include "signals.h"
 #include "stale.h"
 #include "stats.h"
+#include "vertex_attrs.h"
 
 /* One frame to convert. */
 typedef struct job {
@@ -37,6 +40,7 @@ typedef struct outcome {
     int status;        /* exit status of a failure */
     int retry;         /* refused over its share of --max-memory: redo alone */
     int done;          /* converted (by a worker, ahead of its turn) */
+    jmf_anim_piece *piece; /* --animate: the frame's glTF piece, for its turn */
 } outcome;
 
 typedef struct run {
@@ -57,11 +61,49 @@ typedef struct run {
     long choice_frame;
     size_t empty; /* frames with particles that gave no triangle */
     size_t planned; /* frames of the whole run, all shards together */
+    jmf_anim *anim;     /* --animate: the one file being written */
+    int anim_failed;    /* a frame could not be added to it */
 } run;
 
 static int is_gltf_family(int f)
 {
     return f == JMF_OUT_GLTF || f == JMF_OUT_GLB;
+}
+
+/* --animate: one plain -o file for the whole run. */
+static int animate_plan(run *r, seq_kind k)
+{
+    convert_options *o = r->o;
+    size_t len = strlen(o->output);
+    if (k != SEQ_PLAIN)
+        return options_usage_error("convert", "--animate writes every frame into one file: give -o NAME.glb or "
+                                   "NAME.gltf without a frame placeholder, not '%s'", o->output);
+    if (platform_is_dir(o->output) || (len > 0 && o->output[len - 1] == '/'))
+        return options_usage_error("convert", "--animate writes one file: %s is a directory", o->output);
+    if (o->resume)
+        return options_usage_error("convert", "--animate and --resume do not go together: the one file is "
+                                   "written whole or not at all");
+    return EXIT_ALL_OK;
+}
+
+/* --animate: the one output (every frame names it) is no input, and not
+ * the statistics or the chart either. */
+static int animate_check_output(run *r)
+{
+    const char *out = r->o->output;
+    const char *extra[2] = {r->o->stats_path, r->o->stats_svg};
+    struct stat so, si;
+    for (int k = 0; k < 2; k++)
+        if (extra[k] && strcmp(extra[k], out) == 0)
+            return options_usage_error("convert", "--animate and %s would both write %s",
+                                       k ? "--stats-svg" : "--stats", out);
+    if (stat(out, &so) != 0)
+        return EXIT_ALL_OK;
+    for (size_t j = 0; j < r->njobs; j++)
+        if (stat(r->jobs[j].in->path, &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+            return options_usage_error("convert", "refusing to overwrite the input file %s (with %s)",
+                                       r->jobs[j].in->path, out);
+    return EXIT_ALL_OK;
 }
 
 /* Decides every frame's output path and the output format. */
@@ -80,7 +122,12 @@ static int plan_outputs(run *r)
         return options_usage_error("convert", "'%s' has more than one frame placeholder ({} or %%d)", o->output);
     size_t len = strlen(o->output);
     int as_dir = 0;
-    if (k == SEQ_PLAIN) {
+    if (o->animate) {
+        int rc = animate_plan(r, k);
+        if (rc != EXIT_ALL_OK)
+            return rc;
+        k = SEQ_PLAIN; /* every frame names the one file */
+    } else if (k == SEQ_PLAIN) {
         as_dir = platform_is_dir(o->output) || (len > 0 && o->output[len - 1] == '/');
         if (!as_dir && n > 1) {
             struct stat st;
@@ -143,6 +190,17 @@ static int plan_outputs(run *r)
     if (o->write.embed && fmt != JMF_OUT_GLTF)
         return options_usage_error("convert", "--embed applies to .gltf output, not %s",
                                    jmf_output_format_name((jmf_output_format)fmt));
+    if (o->attributes && !jmf_format_holds_attributes(fmt, o->write.draco))
+        return options_usage_error("convert",
+                                   "%s cannot hold per-vertex attributes (--attributes): write glTF/GLB "
+                                   "without Draco, PLY or VTK",
+                                   o->write.draco ? "Draco-compressed glTF" : fmt == JMF_OUT_DRC ? "a bare Draco .drc"
+                                   : jmf_output_format_name((jmf_output_format)fmt));
+    if (o->animate && !is_gltf_family(fmt))
+        return options_usage_error("convert", "--animate writes one glTF: give -o NAME.glb or NAME.gltf, not %s",
+                                   jmf_output_format_name((jmf_output_format)fmt));
+    if (o->animate && o->write.embed)
+        return options_usage_error("convert", "--animate writes a .glb or a .gltf with a .bin; not with --embed");
     return EXIT_ALL_OK;
 }
 
@@ -545,6 +603,22 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
         outcome_fail(oc, msg, status);
         return;
     }
+    jmf_write_options wopt = o->write;
+    jmf_attribute *va = NULL;
+    size_t nva = 0;
+    if (fr.attribute_count) {
+        jm_params p = o->params;
+        jm_status as = vattrs_make(&p, &fr, &mesh, &va, &nva);
+        if (as != JM_OK) {
+            snprintf(msg, sizeof msg, "%s: interpolating its attributes: %s", f->path, jm_status_message(as));
+            jmf_frame_free(&fr);
+            rec->ms_total = platform_now_ms() - t0;
+            outcome_fail(oc, msg, as == JM_E_OUT_OF_MEMORY ? EXIT_RESOURCE : EXIT_SOME_FAILED);
+            return;
+        }
+        wopt.attributes = va;
+        wopt.attribute_count = nva;
+    }
     jmf_frame_free(&fr); /* the library keeps no pointer to the particles */
     rec->vertices = mesh.vertex_count;
     rec->triangles = mesh.triangle_count;
@@ -559,9 +633,15 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
     if (platform_make_dirs(jb->out, 1) != 0) {
         snprintf(err, sizeof err, "%s: cannot create its directory: %s", jb->out, strerror(errno));
         ws = JMF_E_IO;
+    } else if (o->animate) {
+        char name[64];
+        snprintf(name, sizeof name, "%s frame %ld", jb->out, f->index);
+        ws = jmf_anim_piece_build(&mesh, &wopt, o->write.draco, name, &oc->piece, err, sizeof err);
+        bytes = jmf_anim_piece_bytes(oc->piece);
     } else {
-        ws = jmf_write_mesh_staged(jb->out, &mesh, &o->write, &bytes, &oc->staged, err, sizeof err);
+        ws = jmf_write_mesh_staged(jb->out, &mesh, &wopt, &bytes, &oc->staged, err, sizeof err);
     }
+    vattrs_free(va, nva);
     double t4 = platform_now_ms();
     rec->ms_write = t4 - t3;
     rec->ms_total = t4 - t0;
@@ -590,7 +670,22 @@ static int report(run *r, const job *jb, outcome *oc)
         r->failed++;
         return -1;
     }
-    if (oc->rec.status == STATS_OK) {
+    if (r->anim) {
+        /* --animate: the frame joins the one file (a failed one as an empty node) */
+        char name[64];
+        snprintf(name, sizeof name, "frame_%04ld", jb->in->index);
+        double t0 = platform_now_ms();
+        jmf_anim_piece *pc = oc->rec.status == STATS_OK ? oc->piece : NULL;
+        if (pc == NULL)
+            jmf_anim_piece_free(oc->piece);
+        oc->piece = NULL;
+        if (jmf_anim_add(r->anim, name, jb->in->index, pc, err, sizeof err) != JMF_OK) {
+            if (oc->rec.status == STATS_OK)
+                outcome_fail(oc, err, EXIT_SOME_FAILED);
+            r->anim_failed = 1;
+        }
+        oc->rec.ms_write += platform_now_ms() - t0;
+    } else if (oc->rec.status == STATS_OK) {
         /* the flush to disk and the rename: part of the frame's write time */
         double t0 = platform_now_ms();
         if (jmf_staged_publish(&oc->staged, err, sizeof err) != JMF_OK)
@@ -657,6 +752,8 @@ static int report(run *r, const job *jb, outcome *oc)
  * output is removed, so the disk holds what a one-at-a-time run leaves. */
 static void discard(outcome *oc)
 {
+    jmf_anim_piece_free(oc->piece);
+    oc->piece = NULL;
     jmf_staged_abort(&oc->staged);
     free(oc->rec.error);
     oc->rec.error = NULL;
@@ -848,6 +945,69 @@ static void list_failures(const run *r)
     }
 }
 
+/* --animate: the one file, once every frame is in (none after a stop). */
+static void finish_animation(run *r)
+{
+    char err[1024];
+    jmf_staged st;
+    size_t bytes = 0;
+    jmf_anim *a = r->anim;
+    r->anim = NULL;
+    if (r->log.count < r->njobs || r->anim_failed || r->failed == r->njobs) {
+        jmf_anim_abort(a);
+        fprintf(stderr, "jetmesh: %s not written: %s\n", r->o->output,
+                r->failed == r->njobs ? "no frame converted" : "not every frame went in");
+        if (r->worst < EXIT_SOME_FAILED)
+            r->worst = EXIT_SOME_FAILED;
+        return;
+    }
+    if (jmf_anim_finish(a, &st, &bytes, err, sizeof err) != JMF_OK ||
+        jmf_staged_publish(&st, err, sizeof err) != JMF_OK) {
+        fprintf(stderr, "jetmesh: %s\n", err);
+        if (r->worst < EXIT_SOME_FAILED)
+            r->worst = EXIT_SOME_FAILED;
+        return;
+    }
+    if (!r->o->quiet) {
+        printf("animated %zu frames at %g fps -> %s (%zu bytes)\n", r->njobs, r->o->fps, r->o->output, bytes);
+        fflush(stdout);
+    }
+}
+
+/* --pvd, a VTK or PLY sequence: the .pvd collection beside it for ParaView. */
+static void write_pvd(run *r)
+{
+    const convert_options *o = r->o;
+    int f = o->write.format;
+    if (!o->pvd || r->njobs < 2 || (f != JMF_OUT_VTK && f != JMF_OUT_PLY))
+        return;
+    char **files = malloc(r->log.count * sizeof *files);
+    double *times = malloc(r->log.count * sizeof *times);
+    char *path = pvd_path_for(o->output);
+    char err[1024];
+    size_t n = 0;
+    const double dt = o->time_step > 0 ? o->time_step : 1.0 / o->fps;
+    for (size_t i = 0; files && times && i < r->log.count; i++) {
+        const stats_record *rec = &r->log.items[i];
+        if (rec->status == STATS_FAILED)
+            continue;
+        files[n] = rec->output;
+        times[n++] = (double)rec->index * dt;
+    }
+    if (!files || !times || !path)
+        fprintf(stderr, "jetmesh: out of memory for the .pvd\n");
+    else if (n && pvd_write(path, files, times, n, o->write.no_sync, err, sizeof err) != 0) {
+        fprintf(stderr, "jetmesh: cannot write the ParaView collection: %s\n", err);
+        if (r->worst < EXIT_SOME_FAILED)
+            r->worst = EXIT_SOME_FAILED;
+    }
+    else if (n && !o->quiet)
+        printf("ParaView collection (%zu frames, %g s apart per frame number) -> %s\n", n, dt, path);
+    free(files);
+    free(times);
+    free(path);
+}
+
 static void run_free(run *r)
 {
     for (size_t i = 0; i < r->njobs; i++)
@@ -858,6 +1018,8 @@ static void run_free(run *r)
     jm_context_free(r->ctx);
     free_workers(r);
     free(r->oc);
+    jmf_anim_abort(r->anim);
+    free(r->o->attributes_all);
 }
 
 int cmd_convert(int argc, char **argv)
@@ -893,9 +1055,14 @@ int cmd_convert(int argc, char **argv)
                                  r.frames.count, SEQ_MAX_FRAMES);
         goto done;
     }
-    if ((rc = plan_outputs(&r)) != EXIT_ALL_OK || (rc = check_outputs(&r)) != EXIT_ALL_OK)
+    if ((rc = plan_outputs(&r)) != EXIT_ALL_OK ||
+        (rc = o.animate ? animate_check_output(&r) : check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
     choose_field(&r);
+    if ((rc = vattrs_resolve_all(o.attributes, &o.read, &r.frames, &o.attributes_all)) != EXIT_ALL_OK)
+        goto done;
+    if (o.attributes_all)
+        o.read.attributes = o.attributes_all;
     take_shard(&r);
     if ((rc = check_writable(&r)) != EXIT_ALL_OK)
         goto done;
@@ -921,19 +1088,40 @@ int cmd_convert(int argc, char **argv)
         print_params(&r);
     {
         /* what a killed run left beside these outputs */
-        char **outs = malloc(r.njobs * sizeof *outs);
-        size_t gone = 0;
+        char **outs = malloc((r.njobs + 1) * sizeof *outs);
+        char *frames = NULL; /* --animate: the .glb's temporary of its frames */
+        size_t gone = 0, nouts = r.njobs;
         for (size_t i = 0; outs && i < r.njobs; i++)
             outs[i] = r.jobs[i].out;
+        if (outs && o.animate && (frames = malloc(strlen(o.output) + 8)) != NULL) {
+            sprintf(frames, "%s.frames", o.output);
+            outs[nouts++] = frames;
+        }
         if (outs)
-            gone = stale_remove(outs, r.njobs);
+            gone = stale_remove(outs, nouts);
         free(outs);
+        free(frames);
         if (gone && !o.quiet)
             printf("removed %zu temporar%s left by an interrupted run\n", gone, gone == 1 ? "y" : "ies");
+    }
+    if (o.animate) {
+        int glb = o.write.format == JMF_OUT_GLB;
+        if (platform_make_dirs(o.output, 1) != 0 ||
+            jmf_anim_open(o.output, glb, &o.write, o.fps, &r.anim, err, sizeof err) != JMF_OK) {
+            if (!r.anim && platform_make_dirs(o.output, 1) != 0)
+                snprintf(err, sizeof err, "%s: cannot create its directory: %s", o.output, strerror(errno));
+            fprintf(stderr, "jetmesh convert: %s\n", err);
+            rc = EXIT_SOME_FAILED;
+            goto done;
+        }
     }
     progress_init(&r.bar, r.njobs, !o.quiet);
     convert_all(&r);
     progress_finish(&r.bar);
+    if (o.animate)
+        finish_animation(&r);
+    else
+        write_pvd(&r);
     list_failures(&r);
     write_reports(&r, platform_now_ms() - start);
     rc = r.worst ? r.worst : (r.failed ? EXIT_SOME_FAILED : EXIT_ALL_OK);

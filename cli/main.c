@@ -4,6 +4,7 @@
 
 #include "../lib/jetmesh.h"
 #include "bench.h"
+#include "blender_script.h"
 #include "convert.h"
 #include "generate.h"
 #include "options.h"
@@ -23,6 +24,8 @@ static void usage(FILE *f)
           "\n"
           "  jetmesh --help      this help\n"
           "  jetmesh --version   the version\n"
+          "  jetmesh --blender-script   the path of the Blender importer of sequences:\n"
+          "                      blender --python \"$(jetmesh --blender-script)\" -- out.glb\n"
           "\n"
           "Example: jetmesh convert 'frames/jet_{}.csv' -r 0.025 -o 'meshes/jet_{}.glb'\n"
           "See jetmesh(1) and 'jetmesh COMMAND --help'.\n",
@@ -66,6 +69,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0)
         return help(NULL);
+    if (strcmp(cmd, "--blender-script") == 0)
+        return blender_script_print();
     if (strcmp(cmd, "help") == 0)
         return help(argc > 2 ? argv[2] : NULL);
     if (strcmp(cmd, "convert") == 0)

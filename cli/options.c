@@ -119,6 +119,21 @@ void options_convert_help(FILE *f)
         "      --draco-normal-bits N   (default 10)\n"
         "      --draco-uv-bits N       (default 12)\n"
         "\n"
+        "Sequences (Blender, ParaView, the web):\n"
+        "      --animate               every frame into the one -o file (.glb or .gltf):\n"
+        "                              one node per frame, shown at its time by a STEP\n"
+        "                              scale animation (Blender: one object per frame;\n"
+        "                              see jetmesh --blender-script)\n"
+        "      --fps F                 frames per second of --animate and of the .pvd\n"
+        "                              times (default 24)\n"
+        "      --pvd                   VTK/PLY sequences: a ParaView collection NAME.pvd\n"
+        "                              beside the frames (time -> file)\n"
+        "      --time-step DT          .pvd time per frame number (default 1/fps)\n"
+        "      --attributes LIST|all   per-particle arrays (velocity,density,...; from\n"
+        "                              VTK, VTU, BGEO, PLY or CSV) interpolated to the\n"
+        "                              vertices with SPH weights: glTF _VELOCITY-style\n"
+        "                              attributes, PLY properties, VTK point data\n"
+        "\n"
         "Running:\n"
         "      --keep-going            convert every other frame after a failure\n"
         "      --no-sync               do not fsync each output before renaming it into\n"
@@ -169,7 +184,9 @@ enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
     O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
-    O_ANISO, O_ANISO_RADIUS, O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY
+    O_ANISO, O_ANISO_RADIUS, O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY,
+    /* sequences for Blender, ParaView and the web */
+    O_ANIMATE = 500, O_FPS, O_TIMESTEP, O_PVD, O_ATTRS
 };
 
 /* options of the cluster block (see SHARDS in jetmesh(1)) */
@@ -219,6 +236,12 @@ static const struct option convert_long[] = {
     {"verbose", no_argument, 0, 'v'},
     {"help", no_argument, 0, O_HELP},
     {"version", no_argument, 0, O_VERSION},
+    /* sequences for Blender, ParaView and the web */
+    {"animate", no_argument, 0, O_ANIMATE},
+    {"fps", required_argument, 0, O_FPS},
+    {"time-step", required_argument, 0, O_TIMESTEP},
+    {"pvd", no_argument, 0, O_PVD},
+    {"attributes", required_argument, 0, O_ATTRS},
     {0, 0, 0, 0},
 };
 
@@ -420,11 +443,32 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case 'v': o->verbose = 1; o->quiet = 0; break;
         case O_HELP: options_convert_help(stdout); return OPTIONS_DONE;
         case O_VERSION: printf("jetmesh %s\n", JM_VERSION_STRING); return OPTIONS_DONE;
+        /* sequences for Blender, ParaView and the web */
+        case O_ANIMATE: o->animate = 1; break;
+        case O_FPS:
+            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 100000)
+                rc = options_usage_error(cmd, "--fps must be a number above 0, not '%s'", optarg);
+            o->fps = d;
+            break;
+        case O_TIMESTEP:
+            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
+                rc = options_usage_error(cmd, "--time-step must be a number above 0, not '%s'", optarg);
+            o->time_step = d;
+            break;
+        case O_PVD: o->pvd = 1; break;
+        case O_ATTRS:
+            if (!*optarg || strspn(optarg, ", ") == strlen(optarg))
+                rc = options_usage_error(cmd, "--attributes needs names (velocity,density) or all");
+            o->attributes = optarg;
+            break;
         default: rc = getopt_problem(cmd, c, argv); break;
         }
     }
     if (rc != OPTIONS_RUN)
         return rc;
+    if (o->fps <= 0)
+        o->fps = 24.0;
+    o->read.attributes = o->attributes;
     o->inputs = argv + optind;
     o->ninputs = (size_t)(argc - optind);
     if (o->ninputs == 0)
@@ -446,6 +490,9 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         return options_usage_error(cmd, "--anisotropic works on the SPH field only: add --field sph");
     if (o->params.aniso_radius > 0 && !o->params.anisotropic)
         return options_usage_error(cmd, "--anisotropic-radius needs --anisotropic");
+    if (o->animate && o->shard.count > 0)
+        return options_usage_error(cmd, "--animate writes the whole run into one file, which shards cannot "
+                                        "share: convert shards to per-frame files, or animate in one run");
     o->params.max_bytes = o->max_memory;
     o->read.max_bytes = o->max_memory;
     return OPTIONS_RUN;

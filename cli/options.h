@@ -35,6 +35,16 @@ typedef struct convert_options {
     int field_auto;          /* --field auto (the default): chosen from the
                                 first frame by jm_choose_field */
     shard_spec shard;        /* --shard I/N: this process's share (count 0: all) */
+    /* sequences for Blender, ParaView and the web (vertex_attrs.c, pvd.c,
+       formats/gltf_anim.h) */
+    const char *attributes;  /* --attributes LIST|all: per-particle arrays
+                                carried onto the vertices; NULL none */
+    char *attributes_all;    /* "all" resolved from the first frame (owned) */
+    int animate;             /* --animate: every frame into the one -o file */
+    double fps;              /* --fps (default 24) */
+    double time_step;        /* --time-step: .pvd time per frame number;
+                                0 = 1 / fps */
+    int pvd;                 /* --pvd: a .pvd beside a VTK/PLY sequence */
 } convert_options;
 
 /* The most frames converted at once (each may hold two finished outputs

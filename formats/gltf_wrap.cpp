@@ -17,6 +17,8 @@
 // define TINYGLTF_IMPLEMENTATION here.
 #include <tiny_gltf.h>
 
+#include "gltf_model.hpp"
+
 namespace {
 
 const char *const kDraco = "KHR_draco_mesh_compression";
@@ -123,6 +125,187 @@ std::string uri_encode(const char *s)
     return out;
 }
 
+} // namespace
+
+std::string jmf_gltf_uri_encode(const char *s)
+{
+    return uri_encode(s);
+}
+
+// See gltf_model.hpp.
+jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p, tinygltf::Model &m,
+                                   std::vector<unsigned char> &buf, tinygltf::Primitive &prim, char *err,
+                                   size_t errlen)
+{
+    const char *name = p->name ? p->name : "gltf";
+    const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+    uint32_t max_index = 0;
+    for (size_t i = 0; i < 3 * nt; i++) {
+        const uint32_t v = mesh->indices[i];
+        if (v >= nv) {
+            std::snprintf(err, errlen, "%s: triangle %zu uses vertex %u of %zu", name, i / 3,
+                          static_cast<unsigned>(v), nv);
+            return JMF_E_FORMAT;
+        }
+        if (v > max_index) max_index = v;
+    }
+    // The attributes as written: z-up rotated when asked.
+    std::vector<float> rpos, rnrm;
+    const float *pos = mesh->positions, *nrm = mesh->normals;
+    if (p->z_up) {
+        rpos.resize(3 * nv);
+        for (size_t i = 0; i < nv; i++) {
+            rpos[3 * i] = pos[3 * i];
+            rpos[3 * i + 1] = pos[3 * i + 2];
+            rpos[3 * i + 2] = -pos[3 * i + 1];
+        }
+        pos = rpos.data();
+        if (nrm) {
+            rnrm.resize(3 * nv);
+            for (size_t i = 0; i < nv; i++) {
+                rnrm[3 * i] = nrm[3 * i];
+                rnrm[3 * i + 1] = nrm[3 * i + 2];
+                rnrm[3 * i + 2] = -nrm[3 * i + 1];
+            }
+            nrm = rnrm.data();
+        }
+    }
+    std::vector<double> pmin(3, 0.0), pmax(3, 0.0);
+    for (int k = 0; k < 3; k++) {
+        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+        for (size_t i = 0; i < nv; i++) {
+            const float x = pos[3 * i + static_cast<size_t>(k)];
+            if (!std::isfinite(x)) {
+                std::snprintf(err, errlen, "%s: vertex %zu has a non-finite coordinate", name, i);
+                return JMF_E_FORMAT;
+            }
+            lo = x < lo ? x : lo;
+            hi = x > hi ? x : hi;
+        }
+        pmin[static_cast<size_t>(k)] = lo;
+        pmax[static_cast<size_t>(k)] = hi;
+    }
+
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    prim.material = 0;
+    if (!p->draco) {
+        buf.reserve(nv * (12 + (nrm ? 12 : 0) + (mesh->uvs ? 8 : 0)) + nt * 12 + 16);
+        const size_t op = append(buf, pos, nv * 12);
+        const int ap = add_accessor(m, add_view(m, op, nv * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
+        m.accessors[static_cast<size_t>(ap)].minValues = pmin;
+        m.accessors[static_cast<size_t>(ap)].maxValues = pmax;
+        prim.attributes["POSITION"] = ap;
+        if (nrm) {
+            const size_t o = append(buf, nrm, nv * 12);
+            prim.attributes["NORMAL"] =
+                add_accessor(m, add_view(m, o, nv * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
+                             TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
+        }
+        if (mesh->uvs) {
+            const size_t o = append(buf, mesh->uvs, nv * 8);
+            prim.attributes["TEXCOORD_0"] =
+                add_accessor(m, add_view(m, o, nv * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
+                             TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
+        }
+        // 65535 is the primitive-restart value: 16-bit only below it.
+        const bool small = max_index < 65535;
+        const size_t isz = small ? 2 : 4;
+        while (buf.size() % 4) buf.push_back(0);
+        const size_t oi = buf.size();
+        buf.resize(oi + 3 * nt * isz);
+        if (small) {
+            uint16_t *d = reinterpret_cast<uint16_t *>(buf.data() + oi);
+            for (size_t i = 0; i < 3 * nt; i++) d[i] = static_cast<uint16_t>(mesh->indices[i]);
+        } else {
+            std::memcpy(buf.data() + oi, mesh->indices, 3 * nt * 4);
+        }
+        prim.indices = add_accessor(
+            m, add_view(m, oi, 3 * nt * isz, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+            small ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+            TINYGLTF_TYPE_SCALAR, 3 * nt);
+    } else {
+        jm_mesh rot = *mesh;
+        rot.positions = pos;
+        rot.normals = nrm;
+        jmf_draco_blob blob;
+        jmf_status st = jmf_draco_encode(&rot, &p->draco_params, name, &blob, err, errlen);
+        if (st) return st;
+        const size_t o = append(buf, blob.data, blob.size);
+        const int view = add_view(m, o, blob.size, 0);
+        const size_t np = blob.num_points, nf = blob.num_faces;
+        tinygltf::Value::Object ids;
+        // Accessors without a bufferView: the Draco decoder fills them.
+        const int ap = add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, np);
+        m.accessors[static_cast<size_t>(ap)].minValues = pmin;
+        m.accessors[static_cast<size_t>(ap)].maxValues = pmax;
+        prim.attributes["POSITION"] = ap;
+        ids["POSITION"] = tinygltf::Value(blob.position_id);
+        if (nrm && blob.normal_id >= 0) {
+            prim.attributes["NORMAL"] =
+                add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, np);
+            ids["NORMAL"] = tinygltf::Value(blob.normal_id);
+        }
+        if (mesh->uvs && blob.uv_id >= 0) {
+            prim.attributes["TEXCOORD_0"] =
+                add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, np);
+            ids["TEXCOORD_0"] = tinygltf::Value(blob.uv_id);
+        }
+        prim.indices = add_accessor(m, -1,
+                                    np <= 65535 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
+                                                : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                    TINYGLTF_TYPE_SCALAR, 3 * nf);
+        jmf_draco_blob_free(&blob);
+        tinygltf::Value::Object ext;
+        ext["bufferView"] = tinygltf::Value(view);
+        ext["attributes"] = tinygltf::Value(ids);
+        prim.extensions[kDraco] = tinygltf::Value(ext);
+        if (m.extensionsUsed.empty()) {
+            m.extensionsUsed.push_back(kDraco);
+            m.extensionsRequired.push_back(kDraco);
+        }
+    }
+    // per-vertex attributes: "_NAME" (glTF's custom attributes start with '_')
+    for (size_t a = 0; a < p->attribute_count; a++) {
+        const jmf_attribute *at = &p->attributes[a];
+        const size_t nc = static_cast<size_t>(at->components);
+        std::vector<float> rot;
+        const float *src = at->values;
+        if (p->z_up && nc == 3) {
+            rot.resize(3 * nv);
+            for (size_t i = 0; i < nv; i++) {
+                rot[3 * i] = src[3 * i];
+                rot[3 * i + 1] = src[3 * i + 2];
+                rot[3 * i + 2] = -src[3 * i + 1];
+            }
+            src = rot.data();
+        }
+        std::string key = "_";
+        for (const char *c = at->name; *c; c++)
+            key += static_cast<char>(*c >= 'a' && *c <= 'z' ? *c - 'a' + 'A' : *c);
+        static const int types[5] = {0, TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC2, TINYGLTF_TYPE_VEC3,
+                                     TINYGLTF_TYPE_VEC4};
+        const size_t o = append(buf, src, nv * nc * 4);
+        prim.attributes[key] = add_accessor(m, add_view(m, o, nv * nc * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                            TINYGLTF_COMPONENT_TYPE_FLOAT, types[nc], nv);
+    }
+    return JMF_OK;
+}
+
+void jmf_gltf_add_material(tinygltf::Model &m)
+{
+    tinygltf::Material mat;
+    mat.name = "jetmesh";
+    mat.emissiveFactor = {0.0, 0.0, 0.0}; // tinygltf writes [] when left empty
+    mat.doubleSided = false;
+    mat.pbrMetallicRoughness.baseColorFactor = {0.8, 0.8, 0.8, 1.0};
+    mat.pbrMetallicRoughness.metallicFactor = 0.0;
+    mat.pbrMetallicRoughness.roughnessFactor = 0.5;
+    m.materials.push_back(mat);
+}
+
+namespace {
+
 struct Built {
     MallocBuf main;
     std::vector<unsigned char> bin; // the .bin, or the GLB's BIN chunk
@@ -156,140 +339,11 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
 
     std::vector<unsigned char> buf; // the one buffer
     if (nt > 0) {
-        uint32_t max_index = 0;
-        for (size_t i = 0; i < 3 * nt; i++) {
-            const uint32_t v = mesh->indices[i];
-            if (v >= nv) {
-                std::snprintf(err, errlen, "%s: triangle %zu uses vertex %u of %zu", name, i / 3,
-                              static_cast<unsigned>(v), nv);
-                return JMF_E_FORMAT;
-            }
-            if (v > max_index) max_index = v;
-        }
-        // The attributes as written: z-up rotated when asked.
-        std::vector<float> rpos, rnrm;
-        const float *pos = mesh->positions, *nrm = mesh->normals;
-        if (p->z_up) {
-            rpos.resize(3 * nv);
-            for (size_t i = 0; i < nv; i++) {
-                rpos[3 * i] = pos[3 * i];
-                rpos[3 * i + 1] = pos[3 * i + 2];
-                rpos[3 * i + 2] = -pos[3 * i + 1];
-            }
-            pos = rpos.data();
-            if (nrm) {
-                rnrm.resize(3 * nv);
-                for (size_t i = 0; i < nv; i++) {
-                    rnrm[3 * i] = nrm[3 * i];
-                    rnrm[3 * i + 1] = nrm[3 * i + 2];
-                    rnrm[3 * i + 2] = -nrm[3 * i + 1];
-                }
-                nrm = rnrm.data();
-            }
-        }
-        std::vector<double> pmin(3, 0.0), pmax(3, 0.0);
-        for (int k = 0; k < 3; k++) {
-            float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-            for (size_t i = 0; i < nv; i++) {
-                const float x = pos[3 * i + static_cast<size_t>(k)];
-                if (!std::isfinite(x)) {
-                    std::snprintf(err, errlen, "%s: vertex %zu has a non-finite coordinate", name, i);
-                    return JMF_E_FORMAT;
-                }
-                lo = x < lo ? x : lo;
-                hi = x > hi ? x : hi;
-            }
-            pmin[static_cast<size_t>(k)] = lo;
-            pmax[static_cast<size_t>(k)] = hi;
-        }
-
         tinygltf::Primitive prim;
-        prim.mode = TINYGLTF_MODE_TRIANGLES;
-        prim.material = 0;
-        if (!p->draco) {
-            buf.reserve(nv * (12 + (nrm ? 12 : 0) + (mesh->uvs ? 8 : 0)) + nt * 12 + 16);
-            const size_t op = append(buf, pos, nv * 12);
-            const int ap = add_accessor(m, add_view(m, op, nv * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                        TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
-            m.accessors[static_cast<size_t>(ap)].minValues = pmin;
-            m.accessors[static_cast<size_t>(ap)].maxValues = pmax;
-            prim.attributes["POSITION"] = ap;
-            if (nrm) {
-                const size_t o = append(buf, nrm, nv * 12);
-                prim.attributes["NORMAL"] =
-                    add_accessor(m, add_view(m, o, nv * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
-            }
-            if (mesh->uvs) {
-                const size_t o = append(buf, mesh->uvs, nv * 8);
-                prim.attributes["TEXCOORD_0"] =
-                    add_accessor(m, add_view(m, o, nv * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
-            }
-            // 65535 is the primitive-restart value: 16-bit only below it.
-            const bool small = max_index < 65535;
-            const size_t isz = small ? 2 : 4;
-            while (buf.size() % 4) buf.push_back(0);
-            const size_t oi = buf.size();
-            buf.resize(oi + 3 * nt * isz);
-            if (small) {
-                uint16_t *d = reinterpret_cast<uint16_t *>(buf.data() + oi);
-                for (size_t i = 0; i < 3 * nt; i++) d[i] = static_cast<uint16_t>(mesh->indices[i]);
-            } else {
-                std::memcpy(buf.data() + oi, mesh->indices, 3 * nt * 4);
-            }
-            prim.indices = add_accessor(
-                m, add_view(m, oi, 3 * nt * isz, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                small ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                TINYGLTF_TYPE_SCALAR, 3 * nt);
-        } else {
-            jm_mesh rot = *mesh;
-            rot.positions = pos;
-            rot.normals = nrm;
-            jmf_draco_blob blob;
-            jmf_status st = jmf_draco_encode(&rot, &p->draco_params, name, &blob, err, errlen);
-            if (st) return st;
-            const size_t o = append(buf, blob.data, blob.size);
-            const int view = add_view(m, o, blob.size, 0);
-            const size_t np = blob.num_points, nf = blob.num_faces;
-            tinygltf::Value::Object ids;
-            // Accessors without a bufferView: the Draco decoder fills them.
-            const int ap = add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, np);
-            m.accessors[static_cast<size_t>(ap)].minValues = pmin;
-            m.accessors[static_cast<size_t>(ap)].maxValues = pmax;
-            prim.attributes["POSITION"] = ap;
-            ids["POSITION"] = tinygltf::Value(blob.position_id);
-            if (nrm && blob.normal_id >= 0) {
-                prim.attributes["NORMAL"] =
-                    add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, np);
-                ids["NORMAL"] = tinygltf::Value(blob.normal_id);
-            }
-            if (mesh->uvs && blob.uv_id >= 0) {
-                prim.attributes["TEXCOORD_0"] =
-                    add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, np);
-                ids["TEXCOORD_0"] = tinygltf::Value(blob.uv_id);
-            }
-            prim.indices = add_accessor(m, -1,
-                                        np <= 65535 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
-                                                    : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                        TINYGLTF_TYPE_SCALAR, 3 * nf);
-            jmf_draco_blob_free(&blob);
-            tinygltf::Value::Object ext;
-            ext["bufferView"] = tinygltf::Value(view);
-            ext["attributes"] = tinygltf::Value(ids);
-            prim.extensions[kDraco] = tinygltf::Value(ext);
-            m.extensionsUsed.push_back(kDraco);
-            m.extensionsRequired.push_back(kDraco);
-        }
+        jmf_status fst = jmf_gltf_fill_primitive(mesh, p, m, buf, prim, err, errlen);
+        if (fst) return fst;
 
-        tinygltf::Material mat;
-        mat.name = "jetmesh";
-        mat.emissiveFactor = {0.0, 0.0, 0.0}; // tinygltf writes [] when left empty
-        mat.doubleSided = false;
-        mat.pbrMetallicRoughness.baseColorFactor = {0.8, 0.8, 0.8, 1.0};
-        mat.pbrMetallicRoughness.metallicFactor = 0.0;
-        mat.pbrMetallicRoughness.roughnessFactor = 0.5;
-        m.materials.push_back(mat);
+        jmf_gltf_add_material(m);
         tinygltf::Mesh gm;
         gm.name = "jetmesh";
         gm.primitives.push_back(prim);

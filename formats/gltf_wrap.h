@@ -25,6 +25,10 @@ typedef struct jmf_gltf_params {
     int draco;               /**< compress with KHR_draco_mesh_compression */
     jmf_draco_params draco_params;
     const char *name;        /**< the output's name, for messages */
+    const jmf_attribute *attributes; /**< per-vertex, written as "_NAME" accessors
+                                          (FLOAT, SCALAR/VEC2/VEC3/VEC4; 3-vectors
+                                          rotated with z_up); not with draco */
+    size_t attribute_count;
 } jmf_gltf_params;
 
 /**

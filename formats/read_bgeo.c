@@ -1,4 +1,4 @@
-/* read_bgeo.c - reads classic Houdini binary geometry (BgeoV 5, as partio / SPlisHSPlasH write it): positions and an "id" int attribute. */
+/* read_bgeo.c - reads classic Houdini binary geometry (BgeoV 5, as partio / SPlisHSPlasH write it): positions, an "id" int attribute and the numeric point attributes asked for. */
 #include "readbuf.h"
 
 /*
@@ -71,7 +71,16 @@ static jmf_status skip_str(bg *b, const char *what, const uint8_t **s, size_t *l
  * per element) and, for points, reports the word offset of an int "id"
  * attribute in *id_word (left unchanged if none).
  */
-static jmf_status attr_defs(bg *b, size_t nattr, const char *kind, size_t *words, size_t *id_word)
+/* A numeric point attribute: where its words are in a point's record. */
+#define MAX_PATTRS 64
+typedef struct pattr {
+    const uint8_t *name;
+    size_t namelen, size, word;
+    int is_int;
+} pattr;
+
+static jmf_status attr_defs(bg *b, size_t nattr, const char *kind, size_t *words, size_t *id_word, pattr *pa,
+                            size_t *npa)
 {
     size_t i;
     for (i = 0; i < nattr; i++) {
@@ -92,6 +101,14 @@ static jmf_status attr_defs(bg *b, size_t nattr, const char *kind, size_t *words
             b->pos += size * 4;
             if (id_word && type == 1 && size >= 1 && namelen == 2 && memcmp(name, "id", 2) == 0)
                 *id_word = *words;
+            if (pa && *npa < MAX_PATTRS) {
+                pattr *q = &pa[(*npa)++];
+                q->name = name;
+                q->namelen = namelen;
+                q->size = size;
+                q->word = *words;
+                q->is_int = type == 1;
+            }
             break;
         case 4: {
             size_t nstr;
@@ -128,7 +145,7 @@ static jmf_status tail(bg *b, size_t npoints, size_t nprims, size_t ngroups, siz
 {
     size_t primwords = 0, detailwords = 0, i, bytes;
     int lenient = ngroups > 0;
-    jmf_status st = attr_defs(b, nprimattr, "primitive", &primwords, NULL);
+    jmf_status st = attr_defs(b, nprimattr, "primitive", &primwords, NULL, NULL, NULL);
     if (st) return st;
     if (!jmr_mul(primwords, 4, &bytes))
         return jmr_fail(b->ctx, JMF_E_FORMAT, jmr_byte(b->pos), "primitive attribute size overflows");
@@ -159,7 +176,7 @@ static jmf_status tail(bg *b, size_t npoints, size_t nprims, size_t ngroups, siz
                             "truncated: expected the end marker 00 FF at the end of the file");
         return JMF_OK;
     }
-    st = attr_defs(b, ndetail, "detail", &detailwords, NULL);
+    st = attr_defs(b, ndetail, "detail", &detailwords, NULL, NULL, NULL);
     if (st) return st;
     if (!jmr_mul(detailwords, 4, &bytes))
         return jmr_fail(b->ctx, JMF_E_FORMAT, jmr_byte(b->pos), "detail attribute size overflows");
@@ -181,7 +198,8 @@ jmf_status jmr_read_bgeo(const uint8_t *data, size_t size, const jmr_ctx *ctx, j
                                           "vertex attribute count", "primitive attribute count",
                                           "detail attribute count" };
     bg b = { data, size, 0, ctx };
-    size_t c[8], i, words = 4, id_word = SIZE_MAX, rec, total;
+    size_t c[8], i, words = 4, id_word = SIZE_MAX, rec, total, npa = 0;
+    pattr pa[MAX_PATTRS];
     int32_t version;
     jmf_status st;
 
@@ -207,7 +225,7 @@ jmf_status jmr_read_bgeo(const uint8_t *data, size_t size, const jmr_ctx *ctx, j
     if (c[5] != 0)
         return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(29), "%zu vertex attributes; expected none", c[5]);
 
-    st = attr_defs(&b, c[4], "point", &words, &id_word);
+    st = attr_defs(&b, c[4], "point", &words, &id_word, pa, &npa);
     if (st) return st;
     if (!jmr_mul(words, 4, &rec) || !jmr_mul(rec, c[0], &total))
         return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(9), "point count %zu times %zu words per point overflows",
@@ -232,6 +250,19 @@ jmf_status jmr_read_bgeo(const uint8_t *data, size_t size, const jmr_ctx *ctx, j
         st = jmr_points_add(pts, ctx, jmr_f32_bits(jmr_be32(p)), jmr_f32_bits(jmr_be32(p + 4)),
                             jmr_f32_bits(jmr_be32(p + 8)), id, jmr_byte(b.pos + i * rec));
         if (st) return st;
+    }
+    for (size_t k = 0; k < npa; k++) {
+        jmr_attr *a = NULL;
+        st = jmr_attr_begin(pts, ctx, (const char *)pa[k].name, pa[k].namelen, pa[k].size, c[0],
+                            jmr_byte((size_t)(pa[k].name - data)), &a);
+        if (st) return st;
+        for (i = 0; a && i < c[0]; i++) {
+            const uint8_t *p = data + b.pos + i * rec + 4 * pa[k].word;
+            for (size_t j = 0; j < pa[k].size; j++) {
+                uint32_t u = jmr_be32(p + 4 * j);
+                jmr_attr_set(a, i, j, pa[k].is_int ? (double)(int32_t)u : (double)jmr_f32_bits(u));
+            }
+        }
     }
     b.pos += total;
     return tail(&b, c[0], c[1], c[2] + c[3], c[6], c[7]);

@@ -1,5 +1,7 @@
-/* read_csv.c - reads particles from delimited text (CSV/TSV/space separated), header optional, x/y/z by name or position. */
+/* read_csv.c - reads particles from delimited text (CSV/TSV/space separated), header optional, x/y/z by name or position, other named columns as attributes. */
 #include "readbuf.h"
+
+#include <stdlib.h>
 
 /*
  * Rules:
@@ -132,12 +134,80 @@ static const char *sep_name(char sep)
     }
 }
 
+/* The header's columns other than x, y, z and id, as attributes (when asked for). */
+typedef struct csv_attrs {
+    const char **names; /* header fields (into the data) */
+    size_t *lens;
+    size_t ncols;
+    jmr_attr **attr;    /* per column: the attribute it fills, or NULL */
+    size_t *comp;
+    jmr_attr **list;    /* the distinct attributes, in order */
+    size_t nlist;
+    double *row;        /* per column: this row's value */
+} csv_attrs;
+
+static void csv_attrs_free(csv_attrs *ca)
+{
+    free(ca->names);
+    free(ca->lens);
+    free(ca->attr);
+    free(ca->comp);
+    free(ca->list);
+    free(ca->row);
+}
+
+/* Groups the header's other columns into attributes (col: x, y, z, id). */
+static jmf_status csv_attrs_start(csv_attrs *ca, const long *col, size_t line, const jmr_ctx *ctx, jmr_points *pts)
+{
+    size_t n = ca->ncols, ng, k;
+    int *skip = calloc(n ? n : 1, sizeof *skip);
+    jmr_colgroup *g = calloc(n ? n : 1, sizeof *g);
+    jmf_status st = JMF_OK;
+    ca->attr = calloc(n ? n : 1, sizeof *ca->attr);
+    ca->comp = calloc(n ? n : 1, sizeof *ca->comp);
+    ca->list = calloc(n ? n : 1, sizeof *ca->list);
+    ca->row = calloc(n ? n : 1, sizeof *ca->row);
+    if (!skip || !g || !ca->attr || !ca->comp || !ca->list || !ca->row) {
+        free(skip);
+        free(g);
+        return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for the header's columns");
+    }
+    for (k = 0; k < 4; k++)
+        if (col[k] >= 0 && (size_t)col[k] < n) skip[col[k]] = 1;
+    ng = jmr_group_columns(ca->names, ca->lens, skip, n, g);
+    for (k = 0; k < ng && !st; k++) {
+        jmr_attr *a = NULL;
+        st = jmr_attr_begin(pts, ctx, g[k].name, strlen(g[k].name), (size_t)g[k].comps, 0, jmr_line(line), &a);
+        if (!st && a) {
+            ca->list[ca->nlist++] = a;
+            for (int c = 0; c < g[k].comps; c++) {
+                ca->attr[g[k].cols[c]] = a;
+                ca->comp[g[k].cols[c]] = (size_t)c;
+            }
+        }
+    }
+    free(skip);
+    free(g);
+    return st;
+}
+
+static jmf_status read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts, csv_attrs *ca);
+
 jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
+{
+    csv_attrs ca;
+    memset(&ca, 0, sizeof ca);
+    jmf_status st = read_csv(data, size, ctx, pts, &ca);
+    csv_attrs_free(&ca);
+    return st;
+}
+
+static jmf_status read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts, csv_attrs *ca)
 {
     const char *text = (const char *)data, *end = text + size, *p = text;
     size_t line = 0, ncols = 0, header_line = 0, k;
     long col[4] = { -1, -1, -1, -1 }; /* x, y, z, id */
-    int have_sep = 0, have_header = 0, have_cols = 0;
+    int have_sep = 0, have_header = 0, have_cols = 0, attrs_ready = 0;
     char sep = 0;
     jmf_status st;
 
@@ -215,6 +285,18 @@ jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                     st = jmr_points_want_ids(pts, ctx);
                     if (st) return st;
                 }
+                if (jmr_attrs_wanted(ctx)) {
+                    ca->names = calloc(nf ? nf : 1, sizeof *ca->names);
+                    ca->lens = calloc(nf ? nf : 1, sizeof *ca->lens);
+                    if (!ca->names || !ca->lens)
+                        return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for the header");
+                    ca->ncols = nf;
+                    split_init(&sp, q, n, sep);
+                    for (k = 0; next_field(&sp, &f); k++) {
+                        ca->names[k] = f.s;
+                        ca->lens[k] = f.n;
+                    }
+                }
                 continue;
             }
             ncols = nf;
@@ -231,6 +313,13 @@ jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                                 sep_name(sep), got);
             have_cols = 1;
         }
+        if (!attrs_ready) {
+            attrs_ready = 1;
+            if (ca->names) {
+                st = csv_attrs_start(ca, col, header_line, ctx, pts);
+                if (st) return st;
+            }
+        }
         /* a data row */
         split_init(&sp, q, n, sep);
         nf = 0;
@@ -238,6 +327,14 @@ jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
         while (next_field(&sp, &f)) {
             for (k = 0; k < 4; k++)
                 if (col[k] == (long)nf) val[k] = f;
+            if (ca->attr && nf < ca->ncols && ca->attr[nf]) {
+                double d;
+                if (!jmr_parse_double(f.s, f.n, &d))
+                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
+                                    "column %zu (%s): expected a number, found '%.*s'", nf + 1, ca->attr[nf]->name,
+                                    SHOW(f));
+                ca->row[nf] = d;
+            }
             nf++;
         }
         if (nf != ncols) {
@@ -270,6 +367,13 @@ jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             }
             st = jmr_points_add(pts, ctx, v[0], v[1], v[2], id, jmr_line(line));
             if (st) return st;
+            for (size_t a = 0; a < ca->nlist; a++) {
+                double t[4] = {0, 0, 0, 0};
+                for (size_t c = 0; c < ca->ncols; c++)
+                    if (ca->attr[c] == ca->list[a]) t[ca->comp[c]] = ca->row[c];
+                st = jmr_attr_push(ca->list[a], ctx, t);
+                if (st) return st;
+            }
         }
     }
     return JMF_OK;

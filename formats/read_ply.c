@@ -1,4 +1,4 @@
-/* read_ply.c - reads the x, y, z (and optional id) properties of the "vertex" element of a PLY file: ascii, binary LE or BE. */
+/* read_ply.c - reads the x, y, z (and optional id and asked-for) properties of the "vertex" element of a PLY file: ascii, binary LE or BE. */
 #include "readbuf.h"
 
 /*
@@ -17,6 +17,10 @@ typedef struct prop {
     jmr_type type;      /* value type */
     jmr_type count_type; /* list count type, JMR_T_NONE for scalars */
     int role;           /* 0..2 x y z, 3 id, -1 other */
+    const char *name;
+    size_t namelen;
+    jmr_attr *attr;     /* the attribute it fills (asked for), or NULL */
+    size_t comp;
 } prop;
 
 typedef struct elem {
@@ -171,6 +175,7 @@ static jmf_status read_elem(body *b, const elem *e, const prop *props, jmr_point
             }
             st = value(b, p->type, &d, "a property value");
             if (st) return st;
+            if (p->attr) jmr_attr_set(p->attr, pts->count, p->comp, d);
             if (p->role >= 0 && p->role < 3) xyz[p->role] = d;
             else if (p->role == 3) {
                 id_ok = d >= 0 && d <= 4294967295.0 && d == (double)(uint32_t)d;
@@ -285,7 +290,10 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                 if (name.n == 1 && name.s[0] >= 'x' && name.s[0] <= 'z') p->role = name.s[0] - 'x';
                 else if (name.n == 2 && memcmp(name.s, "id", 2) == 0) p->role = 3;
             }
-            (void)name;
+            p->name = name.s;
+            p->namelen = name.n;
+            p->attr = NULL;
+            p->comp = 0;
             elems[nelems - 1].nprops++;
             nprops++;
             continue;
@@ -322,6 +330,31 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
         if (have[3]) {
             st = jmr_points_want_ids(pts, ctx);
             if (st) return st;
+        }
+        if (jmr_attrs_wanted(ctx)) {
+            /* the other scalar vertex properties: attributes */
+            const char *nm[MAX_PROPS];
+            size_t nl[MAX_PROPS], ng;
+            int skip[MAX_PROPS];
+            jmr_colgroup g[MAX_PROPS];
+            for (k = 0; k < e->nprops; k++) {
+                const prop *p = &props[e->first + k];
+                nm[k] = p->name;
+                nl[k] = p->namelen;
+                skip[k] = p->role != -1 || p->count_type != JMR_T_NONE ||
+                          (p->namelen == 2 && memcmp(p->name, "id", 2) == 0);
+            }
+            ng = jmr_group_columns(nm, nl, skip, e->nprops, g);
+            for (k = 0; k < ng; k++) {
+                jmr_attr *a = NULL;
+                st = jmr_attr_begin(pts, ctx, g[k].name, strlen(g[k].name), (size_t)g[k].comps, e->count,
+                                    jmr_line(e->line), &a);
+                if (st) return st;
+                for (int c = 0; a && c < g[k].comps; c++) {
+                    props[e->first + g[k].cols[c]].attr = a;
+                    props[e->first + g[k].cols[c]].comp = (size_t)c;
+                }
+            }
         }
     }
 

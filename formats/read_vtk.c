@@ -1,4 +1,4 @@
-/* read_vtk.c - reads the POINTS of a legacy VTK file (versions 1.0-5.x, ASCII or big-endian BINARY) and an optional "id" array. */
+/* read_vtk.c - reads the POINTS of a legacy VTK file (versions 1.0-5.x, ASCII or big-endian BINARY), an optional "id" array and the point-data arrays asked for. */
 #include "readbuf.h"
 
 /*
@@ -19,6 +19,7 @@ typedef struct vt {
     size_t n, pos, line;
     int binary;
     const jmr_ctx *ctx;
+    jmr_attr *attr; /* SINK_ATTR's target */
 } vt;
 
 typedef struct tok {
@@ -137,7 +138,7 @@ static jmf_status line_type(vt *v, jmr_type *ty, int *is_bit)
     return JMF_OK;
 }
 
-enum sink { SINK_NONE, SINK_POINTS, SINK_IDS };
+enum sink { SINK_NONE, SINK_POINTS, SINK_IDS, SINK_ATTR };
 
 /*
  * Reads count values of type ty (after the header line). Binary: big-endian
@@ -174,6 +175,10 @@ static jmf_status values(vt *v, size_t count, jmr_type ty, int is_bit, enum sink
                 uint64_t u = jmr_load_u64(v->d + v->pos + i * sz, ty, 1, &ok);
                 jmr_points_set_id(pts, i, u, ok);
             }
+        } else if (sink == SINK_ATTR && !is_bit) {
+            const size_t nc = (size_t)v->attr->comps;
+            for (i = 0; i < count; i++)
+                jmr_attr_set(v->attr, i / nc, i % nc, jmr_load(v->d + v->pos + i * sz, ty, 1));
         }
         v->pos += bytes;
         return JMF_OK;
@@ -201,6 +206,8 @@ static jmf_status values(vt *v, size_t count, jmr_type ty, int is_bit, enum sink
         } else if (sink == SINK_IDS) {
             int ok = d >= 0 && d <= 18446744073709549568.0 && d == (double)(uint64_t)d;
             jmr_points_set_id(pts, i, ok ? (uint64_t)d : 0, ok);
+        } else if (sink == SINK_ATTR) {
+            jmr_attr_set(v->attr, i / (size_t)v->attr->comps, i % (size_t)v->attr->comps, d);
         }
     }
     return JMF_OK;
@@ -310,6 +317,10 @@ static jmf_status field(vt *v, size_t ntuples_expected, int point_data, jmr_poin
             st = jmr_points_want_ids(pts, v->ctx);
             if (st) return st;
             sink = SINK_IDS;
+        } else if (point_data && ntup > 0) {
+            st = jmr_attr_begin(pts, v->ctx, name.s, name.n, ncomp, ntup, at_tok(v, &name), &v->attr);
+            if (st) return st;
+            if (v->attr) sink = SINK_ATTR;
         }
         st = typed_values(v, total, sink, pts, "FIELD array");
         if (st) return st;
@@ -320,7 +331,7 @@ static jmf_status field(vt *v, size_t ntuples_expected, int point_data, jmr_poin
 jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
 {
     static const char magic[] = "# vtk DataFile Version";
-    vt v = { data, size, 0, 1, 0, ctx };
+    vt v = { data, size, 0, 1, 0, ctx, NULL };
     tok t, dataset = { "", 0, 0, 0 };
     size_t npoints = 0, attr_count = 0, ncells = 0;
     int have_points = 0, have_cells = 0, have_dataset = 0, mode = 0; /* 1 point data, 2 cell data */
@@ -456,6 +467,10 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                 st = jmr_points_want_ids(pts, ctx);
                 if (st) return st;
                 sink = SINK_IDS;
+            } else if (mode == 1 && !is_bit) {
+                st = jmr_attr_begin(pts, ctx, name.s, name.n, ncomp, attr_count, at_tok(&v, &name), &v.attr);
+                if (st) return st;
+                if (v.attr) sink = SINK_ATTR;
             }
             total = attr_count * ncomp; /* ncomp <= 4: cannot overflow unless attr_count is absurd */
             if (attr_count > SIZE_MAX / 4)
@@ -500,7 +515,15 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             }
             if (!jmr_mul(attr_count, per, &total))
                 return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "attribute size overflows");
-            st = typed_values(&v, total, SINK_NONE, NULL, "attribute");
+            {
+                enum sink sink = SINK_NONE;
+                if (mode == 1 && (jmr_ieq(t.s, t.n, "VECTORS") || jmr_ieq(t.s, t.n, "NORMALS"))) {
+                    st = jmr_attr_begin(pts, ctx, name.s, name.n, per, attr_count, at_tok(&v, &name), &v.attr);
+                    if (st) return st;
+                    if (v.attr) sink = SINK_ATTR;
+                }
+                st = typed_values(&v, total, sink, pts, "attribute");
+            }
         } else {
             return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t),
                             "unknown keyword '%.*s'; expected a section such as POINTS, CELLS, CELL_TYPES, "

@@ -1,4 +1,4 @@
-/* read_vtu.c - reads the Points of a VTK XML UnstructuredGrid (.vtu): ascii, base64 binary, appended raw/base64, zlib blocks. */
+/* read_vtu.c - reads the Points (and PointData arrays asked for) of a VTK XML UnstructuredGrid (.vtu): ascii, base64 binary, appended raw/base64, zlib blocks. */
 #include "readbuf.h"
 
 #include <stdlib.h>
@@ -51,10 +51,16 @@ typedef struct darr {
     size_t tagpos;
 } darr;
 
+#define MAX_POINT_ARRAYS 32
+
 typedef struct piece {
     size_t npoints;
     size_t tagpos;
     darr pts, ids;
+    darr arrs[MAX_POINT_ARRAYS]; /* PointData arrays other than id */
+    const char *names[MAX_POINT_ARRAYS];
+    size_t namelens[MAX_POINT_ARRAYS];
+    size_t narrs;
 } piece;
 
 typedef struct vtu {
@@ -606,6 +612,47 @@ static jmf_status read_piece(vtu *v, const piece *pc, jmr_points *pts)
     return JMF_OK;
 }
 
+/* The PointData arrays asked for (jmf_read_options.attributes), named as in
+ * the first piece, concatenated over the pieces. */
+static jmf_status read_arrays(vtu *v, const piece *pieces, size_t npieces, jmr_points *pts)
+{
+    const jmr_ctx *ctx = v->x.ctx;
+    const piece *p0 = &pieces[0];
+    for (size_t k = 0; k < p0->narrs; k++) {
+        const darr *d0 = &p0->arrs[k];
+        jmr_attr *a = NULL;
+        size_t base = 0;
+        jmf_status st = jmr_attr_begin(pts, ctx, p0->names[k], p0->namelens[k], d0->ncomp, pts->count,
+                                       jmr_byte(d0->tagpos), &a);
+        if (st) return st;
+        for (size_t i = 0; a && i < npieces; i++) {
+            const piece *pc = &pieces[i];
+            const darr *da = NULL;
+            size_t j, nvals, sz;
+            uint8_t *buf;
+            int dbl;
+            for (j = 0; j < pc->narrs; j++)
+                if (pc->namelens[j] == p0->namelens[k] && memcmp(pc->names[j], p0->names[k], p0->namelens[k]) == 0)
+                    da = &pc->arrs[j];
+            if (!da || da->ncomp != d0->ncomp)
+                return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(pc->tagpos),
+                                "attribute '%s': piece %zu has %s; expected %zu components per point", a->name, i,
+                                da ? "another component count" : "no such PointData array", d0->ncomp);
+            if (!jmr_mul(pc->npoints, da->ncomp, &nvals))
+                return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(da->tagpos), "attribute '%s': size overflows", a->name);
+            st = decode(v, da, nvals, &buf, &dbl, a->name);
+            if (st) return st;
+            sz = jmr_type_size(da->type);
+            for (j = 0; j < nvals; j++)
+                jmr_attr_set(a, base + j / da->ncomp, j % da->ncomp,
+                             dbl ? ((double *)(void *)buf)[j] : jmr_load(buf + j * sz, da->type, v->big_endian));
+            free(buf);
+            base += pc->npoints;
+        }
+    }
+    return JMF_OK;
+}
+
 jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
 {
     vtu v;
@@ -712,6 +759,14 @@ jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             } else if (pc && in_piece && in_pointdata && !pc->ids.present && val_is(attr(&t, "Name"), "id")) {
                 pc->ids = da;
                 any_ids = 1;
+            } else if (pc && in_piece && in_pointdata && pc->narrs < MAX_POINT_ARRAYS && jmr_attrs_wanted(ctx)) {
+                const xattr *nm = attr(&t, "Name");
+                if (nm && nm->vlen) {
+                    pc->arrs[pc->narrs] = da;
+                    pc->names[pc->narrs] = nm->val;
+                    pc->namelens[pc->narrs] = nm->vlen;
+                    pc->narrs++;
+                }
             }
         } else if (tag_is(&t, "AppendedData")) {
             const xattr *enc = attr(&t, "encoding");
@@ -755,6 +810,7 @@ jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
         st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(size), "truncated XML: expected </VTKFile>");
     if (!st && any_ids) st = jmr_points_want_ids(pts, ctx);
     for (i = 0; !st && i < npieces; i++) st = read_piece(&v, &pieces[i], pts);
+    if (!st && npieces) st = read_arrays(&v, pieces, npieces, pts);
     free(pieces);
     return st;
 }

@@ -262,6 +262,7 @@ void jmr_points_finish(jmr_points *pts, jmf_frame *out)
             if (k != i) {
                 memmove(pts->xyz + 3 * k, pts->xyz + 3 * i, 3 * sizeof(float));
                 if (pts->ids) pts->ids[k] = pts->ids[i];
+                jmr_attrs_move(pts, k, i);
             }
             k++;
         }
@@ -269,6 +270,7 @@ void jmr_points_finish(jmr_points *pts, jmf_frame *out)
         pts->count = k;
     }
     out->count = pts->count;
+    jmr_attrs_finish(pts, out);
     if (pts->count == 0) {
         free(pts->xyz);
         free(pts->ids);
@@ -281,6 +283,7 @@ void jmr_points_finish(jmr_points *pts, jmf_frame *out)
 
 void jmr_points_free(jmr_points *pts)
 {
+    jmr_attrs_free(pts);
     free(pts->xyz);
     free(pts->ids);
     memset(pts, 0, sizeof *pts);

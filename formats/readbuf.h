@@ -127,6 +127,10 @@ typedef struct jmr_points {
     size_t cap;
     size_t invalid;     /* non-finite points kept as NaN (drop_invalid) */
     int ids_bad;        /* an id did not fit: ids are dropped at the end */
+    struct jmr_attr **attrs; /* the per-particle arrays asked for (read_attrs.c) */
+    size_t nattrs;
+    char *seen;         /* every per-particle array name met, ", "-separated */
+    size_t seen_len;
 } jmr_points;
 
 /** Makes room for n more points; JMF_E_NOMEM/LIMIT with a message on failure. */
@@ -144,6 +148,61 @@ void jmr_points_set_id(jmr_points *pts, size_t i, uint64_t id, int ok);
 /** Removes dropped points, drops bad ids, moves everything into out (zeroed first). */
 void jmr_points_finish(jmr_points *pts, jmf_frame *out);
 void jmr_points_free(jmr_points *pts);
+
+/* ---- per-particle attributes (read_attrs.c; jmf_read_options.attributes) ---- */
+typedef struct jmr_attr {
+    char *name;
+    int comps;      /* 1..4 */
+    float *v;       /* comps per tuple */
+    size_t count;   /* tuples held */
+    size_t cap;
+} jmr_attr;
+
+/**
+ * A per-particle array NAME (n bytes) of comps components and count tuples
+ * (0 when they are pushed one at a time) met in the file: notes its name and,
+ * when it was asked for, allocates it (zeroed) into *out; else *out = NULL.
+ * The first array of a name wins. An array of over 4 components asked for
+ * by name is an error; with "all" it is passed over.
+ */
+jmf_status jmr_attr_begin(jmr_points *pts, const jmr_ctx *ctx, const char *name, size_t n, size_t comps,
+                          size_t count, jmr_at at, jmr_attr **out);
+/** Appends one tuple of a->comps values. */
+jmf_status jmr_attr_push(jmr_attr *a, const jmr_ctx *ctx, const double *vals);
+/** Sets component c of tuple i (ignored beyond count). */
+void jmr_attr_set(jmr_attr *a, size_t i, size_t c, double v);
+/** 1 when any attribute is asked for. */
+int jmr_attrs_wanted(const jmr_ctx *ctx);
+/**
+ * After a successful read: every attribute asked for by name is present,
+ * each has one tuple per particle, every value is finite (with drop_invalid
+ * a particle with a non-finite value is dropped instead). Errors name the
+ * file and the attribute.
+ */
+jmf_status jmr_attrs_check(jmr_points *pts, const jmr_ctx *ctx);
+/** Moves tuple i to k (compaction by jmr_points_finish). */
+void jmr_attrs_move(jmr_points *pts, size_t k, size_t i);
+/** Moves the attributes and names into out (count tuples kept). */
+void jmr_attrs_finish(jmr_points *pts, jmf_frame *out);
+void jmr_attrs_free(jmr_points *pts);
+/** Frees a frame's attributes (jmf_frame_free). */
+void jmr_frame_attrs_free(jmf_frame *f);
+
+/** A group of columns making one attribute (PLY properties, CSV columns). */
+typedef struct jmr_colgroup {
+    char name[64];
+    int comps;
+    size_t cols[3];
+} jmr_colgroup;
+/**
+ * Groups columns into attributes: NAME_x/_y/_z (or .x, or NAMEx with a
+ * NAME of 1+ letters when all three exist; vx vy vz give "velocity") make
+ * one 3-component attribute, any other column a scalar. skip[i] marks the
+ * columns already used (x, y, z, id). out has room for ncols groups;
+ * returns how many.
+ */
+size_t jmr_group_columns(const char *const *names, const size_t *lens, const int *skip, size_t ncols,
+                         jmr_colgroup *out);
 
 /* ---- zlib helpers ---- */
 /**

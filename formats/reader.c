@@ -29,6 +29,7 @@ void jmf_frame_free(jmf_frame *frame)
     if (!frame) return;
     free(frame->xyz);
     free(frame->ids);
+    jmr_frame_attrs_free(frame);
     memset(frame, 0, sizeof *frame);
 }
 
@@ -194,7 +195,7 @@ jmf_status jmf_read_particles_mem(const void *data, size_t size, const char *nam
                                   const jmf_read_options *opt, jmf_frame *out, char *err,
                                   size_t errlen)
 {
-    static const jmf_read_options defaults = { JMF_IN_AUTO, 0, 0 };
+    static const jmf_read_options defaults = { JMF_IN_AUTO, 0, 0, NULL };
     jmr_ctx ctx;
     jmr_points pts;
     const uint8_t *d = data;
@@ -251,6 +252,7 @@ jmf_status jmf_read_particles_mem(const void *data, size_t size, const char *nam
         break;
     }
     free(plain);
+    if (!st) st = jmr_attrs_check(&pts, &ctx);
     if (st) {
         jmr_points_free(&pts);
         memset(out, 0, sizeof *out);
@@ -268,7 +270,7 @@ jmf_status jmf_read_particles_mem(const void *data, size_t size, const char *nam
 jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf_frame *out,
                               char *err, size_t errlen)
 {
-    static const jmf_read_options defaults = { JMF_IN_AUTO, 0, 0 };
+    static const jmf_read_options defaults = { JMF_IN_AUTO, 0, 0, NULL };
     jmr_ctx ctx;
     struct stat sb;
     FILE *fp;

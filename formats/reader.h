@@ -35,7 +35,30 @@ typedef struct jmf_read_options {
                                   count them in jmf_frame.dropped; 0: error */
     size_t max_bytes;        /**< refuse inputs whose decoded size exceeds this;
                                   0 = no limit */
+    const char *attributes;  /**< per-particle arrays to read besides the
+                                  positions: NULL none (the default), "all",
+                                  or names separated by commas ("velocity,
+                                  density"; case-insensitive). See
+                                  jmf_attribute. */
 } jmf_read_options;
+
+/**
+ * One per-particle array of a frame (jmf_read_options.attributes), e.g.
+ * "velocity" with 3 components. Where they come from: VTK point-data
+ * SCALARS/VECTORS/NORMALS and FIELD arrays, VTU PointData DataArrays, BGEO
+ * point attributes (float/int/vector), PLY vertex properties and CSV columns.
+ * In PLY and CSV, properties NAME_x NAME_y NAME_z (also .x or x/y/z after
+ * the name) make one 3-component NAME, and vx vy vz make "velocity". 1 to 4
+ * components. A named attribute the file lacks, one whose length differs
+ * from the particle count, and a non-finite value are errors naming the
+ * file and the attribute (drop_invalid drops the particle instead of the
+ * last).
+ */
+typedef struct jmf_attribute {
+    char *name;
+    int components;          /**< 1 to 4 */
+    float *values;           /**< components per particle, particle order */
+} jmf_attribute;
 
 /** One frame of particles, owned by the caller: free with jmf_frame_free(). */
 typedef struct jmf_frame {
@@ -45,6 +68,11 @@ typedef struct jmf_frame {
     size_t dropped;      /**< invalid particles skipped with drop_invalid */
     jmf_input_format format; /**< the format actually read */
     int compressed;      /**< 1 if the file was gzip-compressed */
+    jmf_attribute *attributes; /**< read_options.attributes found, in file order */
+    size_t attribute_count;
+    char *array_names;   /**< with attributes asked for: every per-particle
+                              array the file has, ", "-separated (for
+                              messages); else NULL */
 } jmf_frame;
 
 /**

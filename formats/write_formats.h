@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 #include "atomic_file.h"
+#include "reader.h" /* jmf_attribute */
 #include "../lib/jetmesh.h"
 
 #ifdef __cplusplus
@@ -26,6 +27,14 @@ jmf_status jmf_write_ply(jmf_atomic_file *af, const jm_mesh *mesh,
  *  POINT_DATA NORMALS and TEXTURE_COORDINATES. */
 jmf_status jmf_write_vtk(jmf_atomic_file *af, const jm_mesh *mesh,
                          const char *generator, char *err, size_t errlen);
+
+/** Per-vertex attributes (jmf_write_options.attributes) too: PLY as float
+ *  vertex properties NAME (1 component) or NAME_x NAME_y NAME_z [NAME_w];
+ *  VTK as a POINT_DATA FIELD array NAME with its components. */
+jmf_status jmf_write_ply_attrs(jmf_atomic_file *af, const jm_mesh *mesh, const jmf_attribute *attrs,
+                               size_t nattrs, const char *generator, char *err, size_t errlen);
+jmf_status jmf_write_vtk_attrs(jmf_atomic_file *af, const jm_mesh *mesh, const jmf_attribute *attrs,
+                               size_t nattrs, const char *generator, char *err, size_t errlen);
 
 /** Formats v like printf("%.7g") (ties may differ in the last digit), much
  *  faster. out needs JMF_FLOAT_CHARS bytes; returns the length, NUL added. */

@@ -52,6 +52,12 @@ static jmf_status put_text(jmf_atomic_file *af, char *err, size_t errlen, const 
 jmf_status jmf_write_vtk(jmf_atomic_file *af, const jm_mesh *mesh,
                          const char *generator, char *err, size_t errlen)
 {
+    return jmf_write_vtk_attrs(af, mesh, NULL, 0, generator, err, errlen);
+}
+
+jmf_status jmf_write_vtk_attrs(jmf_atomic_file *af, const jm_mesh *mesh, const jmf_attribute *attrs,
+                               size_t nattrs, const char *generator, char *err, size_t errlen)
+{
     /* Legacy readers hold counts, and the POLYGONS size 4 * triangles, in an int. */
     if (mesh->vertex_count > INT_MAX || mesh->triangle_count > INT_MAX / 4) {
         snprintf(err, errlen, "%s: too many vertices or triangles for legacy VTK", af->final_path);
@@ -86,7 +92,7 @@ jmf_status jmf_write_vtk(jmf_atomic_file *af, const jm_mesh *mesh,
     }
     if (!st) st = jmf_atomic_write(af, buf, n, err, errlen);
     if (!st) st = put_text(af, err, errlen, "\n");
-    if (!st && nv > 0 && (mesh->normals || mesh->uvs)) {
+    if (!st && nv > 0 && (mesh->normals || mesh->uvs || nattrs)) {
         st = put_text(af, err, errlen, "POINT_DATA %zu\n", nv);
         if (!st && mesh->normals) {
             st = put_text(af, err, errlen, "NORMALS Normals float\n");
@@ -96,6 +102,12 @@ jmf_status jmf_write_vtk(jmf_atomic_file *af, const jm_mesh *mesh,
         if (!st && mesh->uvs) {
             st = put_text(af, err, errlen, "TEXTURE_COORDINATES TCoords 2 float\n");
             if (!st) st = put_floats(af, buf, mesh->uvs, 2 * nv, err, errlen);
+            if (!st) st = put_text(af, err, errlen, "\n");
+        }
+        if (!st && nattrs) st = put_text(af, err, errlen, "FIELD FieldData %zu\n", nattrs);
+        for (size_t a = 0; a < nattrs && !st; a++) {
+            st = put_text(af, err, errlen, "%s %d %zu float\n", attrs[a].name, attrs[a].components, nv);
+            if (!st) st = put_floats(af, buf, attrs[a].values, (size_t)attrs[a].components * nv, err, errlen);
             if (!st) st = put_text(af, err, errlen, "\n");
         }
     }

@@ -11,6 +11,7 @@
 #include "draco_wrap.h"
 #include "draco_bits.h"
 #include "gltf_wrap.h"
+#include "gltf_anim.h"
 #include "write_formats.h"
 
 static const char *const k_names[] = {"auto", "obj", "gltf", "glb", "drc", "ply", "vtk"};
@@ -87,7 +88,16 @@ static jmf_status write_bytes(const char *path, const void *data, size_t n, int 
     return commit_or_stage(&af, stage, bytes, err, errlen);
 }
 
-typedef jmf_status (*c_writer)(jmf_atomic_file *, const jm_mesh *, const char *, char *, size_t);
+typedef jmf_status (*c_writer)(jmf_atomic_file *, const jm_mesh *, const jmf_attribute *, size_t, const char *,
+                                char *, size_t);
+
+static jmf_status write_obj_na(jmf_atomic_file *af, const jm_mesh *mesh, const jmf_attribute *attrs, size_t nattrs,
+                               const char *generator, char *err, size_t errlen)
+{
+    (void)attrs;
+    (void)nattrs;
+    return jmf_write_obj(af, mesh, generator, err, errlen);
+}
 
 static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer fn,
                                  const jmf_write_options *opt, size_t *bytes,
@@ -103,7 +113,7 @@ static jmf_status write_c_format(const char *path, const jm_mesh *mesh, c_writer
     jmf_status st = jmf_atomic_open(&af, path, err, errlen);
     if (st) return st;
     af.no_sync = opt && opt->no_sync;
-    st = fn(&af, mesh, gen, err, errlen);
+    st = fn(&af, mesh, opt ? opt->attributes : NULL, opt ? opt->attribute_count : 0, gen, err, errlen);
     if (st) {
         jmf_atomic_abort(&af);
         return st;
@@ -125,6 +135,20 @@ static jmf_draco_params draco_params(const jmf_write_options *opt, const jm_mesh
         if (opt->draco_speed > 0) p.speed = opt->draco_speed;
     }
     return p;
+}
+
+void jmf_write_gltf_params(const jmf_write_options *opt, const jm_mesh *mesh, int draco, const char *name,
+                           jmf_gltf_params *p)
+{
+    memset(p, 0, sizeof *p);
+    p->container = JMF_GLTF_BINARY;
+    p->generator = default_generator(opt);
+    p->z_up = opt ? opt->z_up : 0;
+    p->draco = draco;
+    p->draco_params = draco_params(opt, draco ? mesh : NULL);
+    p->name = name;
+    p->attributes = opt ? opt->attributes : NULL;
+    p->attribute_count = opt ? opt->attribute_count : 0;
 }
 
 static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
@@ -163,6 +187,8 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
     p.draco = draco;
     p.draco_params = draco_params(opt, draco ? mesh : NULL);
     p.name = path;
+    p.attributes = opt ? opt->attributes : NULL;
+    p.attribute_count = opt ? opt->attribute_count : 0;
     char *bin_path = NULL;
     if (p.container == JMF_GLTF_SEPARATE) {
         bin_path = bin_path_for(path);
@@ -221,6 +247,36 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
     return st;
 }
 
+int jmf_format_holds_attributes(int f, int draco)
+{
+    return f == JMF_OUT_PLY || f == JMF_OUT_VTK || ((f == JMF_OUT_GLTF || f == JMF_OUT_GLB) && !draco);
+}
+
+jmf_status jmf_check_attributes(const char *path, int f, int draco, const jm_mesh *mesh,
+                                const jmf_write_options *opt, char *err, size_t errlen)
+{
+    if (!jmf_format_holds_attributes(f, draco)) {
+        snprintf(err, errlen, "%s: %s cannot hold per-vertex attributes such as '%s': write glTF/GLB (without "
+                 "Draco), PLY or VTK, or leave out --attributes", path,
+                 f == JMF_OUT_DRC ? "a bare Draco .drc" : draco ? "Draco-compressed glTF" :
+                 jmf_output_format_name((jmf_output_format)f), opt->attributes[0].name);
+        return JMF_E_UNSUPPORTED;
+    }
+    for (size_t a = 0; a < opt->attribute_count; a++) {
+        const jmf_attribute *at = &opt->attributes[a];
+        int ok = at->name && *at->name && at->components >= 1 && at->components <= 4 &&
+                 (at->values || !mesh->vertex_count);
+        for (const char *c = at->name; ok && *c; c++)
+            ok = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') || *c == '_';
+        if (!ok) {
+            snprintf(err, errlen, "%s: attribute %zu ('%s') needs a name of letters, digits and '_', 1 to 4 "
+                     "components and values", path, a, at->name ? at->name : "");
+            return JMF_E_FORMAT;
+        }
+    }
+    return JMF_OK;
+}
+
 static jmf_status write_mesh(const char *path, const jm_mesh *mesh, const jmf_write_options *opt,
                              size_t *out_bytes, jmf_staged *stage, char *err, size_t errlen)
 {
@@ -259,11 +315,15 @@ static jmf_status write_mesh(const char *path, const jm_mesh *mesh, const jmf_wr
                  path, jmf_output_format_name((jmf_output_format)f));
         return JMF_E_UNSUPPORTED;
     }
+    if (opt && opt->attribute_count) {
+        jmf_status as = jmf_check_attributes(path, f, draco, mesh, opt, err, errlen);
+        if (as) return as;
+    }
     jmf_status st;
     switch (f) {
-    case JMF_OUT_OBJ: st = write_c_format(path, mesh, jmf_write_obj, opt, &bytes, stage, err, errlen); break;
-    case JMF_OUT_PLY: st = write_c_format(path, mesh, jmf_write_ply, opt, &bytes, stage, err, errlen); break;
-    case JMF_OUT_VTK: st = write_c_format(path, mesh, jmf_write_vtk, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_OBJ: st = write_c_format(path, mesh, write_obj_na, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_PLY: st = write_c_format(path, mesh, jmf_write_ply_attrs, opt, &bytes, stage, err, errlen); break;
+    case JMF_OUT_VTK: st = write_c_format(path, mesh, jmf_write_vtk_attrs, opt, &bytes, stage, err, errlen); break;
     case JMF_OUT_DRC: st = write_drc(path, mesh, opt, &bytes, stage, err, errlen); break;
     case JMF_OUT_GLTF: st = write_gltf(path, mesh, 0, draco, opt, &bytes, stage, err, errlen); break;
     default: st = write_gltf(path, mesh, 1, draco, opt, &bytes, stage, err, errlen); break;

@@ -35,6 +35,13 @@ typedef struct jmf_write_options {
     int draco_speed;          /**< 0-10 encoder speed; default 5 */
     const char *generator;    /**< asset.generator; default "jetmesh <version>" */
     int no_sync;              /**< 1: do not fsync outputs before renaming them */
+    const jmf_attribute *attributes; /**< per-vertex attributes (values: components
+                                   per mesh vertex; names of letters, digits and
+                                   '_'), e.g. from jm_interpolate_attributes:
+                                   glTF "_NAME" accessors (upper case; 3-vectors
+                                   rotated with z_up), PLY properties, VTK point
+                                   data. OBJ and .drc cannot hold them: an error. */
+    size_t attribute_count;
 } jmf_write_options;
 
 /**
@@ -70,6 +77,14 @@ void jmf_staged_abort(jmf_staged *s);
 /** The format jmf_write_mesh would use for path and opt (resolves AUTO);
  *  sets *out_draco for the ".draco.glb" convention. -1 if unknown. */
 int jmf_output_format_for(const char *path, const jmf_write_options *opt, int *out_draco);
+
+/** 1 when format f (jmf_output_format; draco: glTF with Draco) can hold
+ *  per-vertex attributes. */
+int jmf_format_holds_attributes(int f, int draco);
+/** JMF_OK when opt's attributes can be written to path in format f; else
+ *  an error message naming the file and what can hold them. */
+jmf_status jmf_check_attributes(const char *path, int f, int draco, const jm_mesh *mesh,
+                                const jmf_write_options *opt, char *err, size_t errlen);
 
 /** "obj", "gltf", ... */
 const char *jmf_output_format_name(jmf_output_format f);

@@ -425,6 +425,37 @@ typedef struct jm_param_problem {
  */
 jm_status jm_params_check(const jm_params *params, jm_param_problem *out_problem);
 
+/** One per-particle quantity (velocity, density, ...) to carry onto the
+ *  vertices of a mesh, for jm_interpolate_attributes. */
+typedef struct jm_attribute {
+    int components;               /**< values per particle and per vertex, 1 to 16
+                                       (at most 64 over all attributes of a call) */
+    const float *particle_values; /**< components per particle, in the order of
+                                       the particles (finite) */
+    float *vertex_values;         /**< the caller's array of components per
+                                       vertex: filled by the call */
+} jm_attribute;
+
+/**
+ * Interpolates per-particle values to mesh vertices (e.g. the velocity, for
+ * motion blur or colouring by speed) with normalised SPH weights, as
+ * splashsurf interpolates attributes:
+ *     a(v) = sum_j a_j W(|v - c_j|, h) / sum_j W(|v - c_j|, h)
+ * over the particles within the support 2h of v, W the cubic spline of the
+ * SPH field above and h = params->smoothing_length * radius (default 2r),
+ * whichever field made the mesh. A vertex with no particle within 2h takes
+ * the values of its nearest particle (the first in input order on a tie).
+ * positions: 3 floats per vertex (a jm_mesh's positions, in the particles'
+ * coordinates). Only radius and smoothing_length of params are used (it
+ * must be valid for jm_context_create). No particles: zeros. Deterministic
+ * (the sums run in a fixed order, in double precision, on the calling
+ * thread); memory about 12 bytes per particle plus a hash of cells, freed
+ * before it returns. Non-finite coordinates give JM_E_INVALID_PARTICLE.
+ */
+jm_status jm_interpolate_attributes(const jm_params *params, const jm_particles *particles,
+                                    const float *positions, size_t vertex_count,
+                                    jm_attribute *attributes, size_t attribute_count);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,5 +1,5 @@
 #!/bin/sh
-# demo.sh - the main job on the shipped samples: jet sequence to GLB, Draco GLB and OBJ, with stats and a chart.
+# demo.sh - the main job on the shipped samples: jet sequence to GLB, Draco GLB, OBJ and one animated GLB, with stats and a chart.
 # Usage: scripts/demo.sh [BUILD_DIR]   (run by `make demo`)
 set -e
 BUILD=${1:-build}
@@ -20,10 +20,14 @@ echo "== the same frames -> glTF with Draco compression (for the web)"
 echo "== the same frames -> OBJ (for MeshLab and anything else)"
 "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$OUT/obj/jet_{}.obj" -q
 
+echo "== the same 100 frames as ONE animated GLB (a node per frame, shown at its time; 24 fps)"
+"$J" convert 'samples/jet/jet_{}.csv' -r 0.025 --animate --fps 24 -o "$OUT/jet_animated.glb" -q
+
 echo "== a real SPlisHSPlasH frame (4,732 particles) -> bulk fluid: the SPH colour field and marching cubes, chosen automatically"
 "$J" convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 \
     -o "$OUT/dam_break.glb"
 
+script=$("$J" --blender-script)
 glb=$(du -sh "$OUT/glb" | cut -f1); drc=$(du -sh "$OUT/draco" | cut -f1); obj=$(du -sh "$OUT/obj" | cut -f1)
 cat <<MSG
 
@@ -31,13 +35,20 @@ Done. Everything is in $OUT/:
   glb/jet_000.glb ... jet_099.glb    ($glb)  glTF 2.0 binary, normals and UVs
   draco/jet_*.draco.glb              ($drc)  the same, Draco-compressed
   obj/jet_*.obj                      ($obj)
+  jet_animated.glb                   all 100 frames in one animated GLB (--animate)
   dam_break.glb                      a real frame, SPH colour field
   stats.csv, stats_draco.json        per-frame timings and a summary
   stats.svg                          time per frame by stage (open in a browser)
 
-Open in Blender: File > Import > glTF 2.0 (.glb/.gltf), pick $OUT/glb/jet_050.glb
-(or the Draco one: Blender's importer decodes KHR_draco_mesh_compression).
-The jet is +Y up like glTF, so it stands the right way; for +Z-up simulations
-add --z-up. A whole sequence: import the frames you need, or convert to OBJ and
-use an OBJ-sequence add-on. MeshLab: File > Import Mesh, pick an .obj or .glb.
+The whole sequence in Blender, in one step (frame range 0-99, 24 fps, one
+object per frame, each visible at its frame; press Space to play):
+  blender --python "$script" -- $OUT/jet_animated.glb
+(after make install: blender --python "\$(jetmesh --blender-script)" -- FILE.glb;
+or File > Import > glTF 2.0 of $OUT/jet_animated.glb, then set the scene's
+frame range to 0-99.) One frame: File > Import > glTF 2.0, pick
+$OUT/glb/jet_050.glb (or the Draco one: Blender's importer decodes
+KHR_draco_mesh_compression). The jet is +Y up like glTF, so it stands the right
+way; for +Z-up simulations add --z-up. Velocities for motion blur: convert with
+--attributes velocity (see man jetmesh). MeshLab: File > Import Mesh, pick an
+.obj or .glb.
 MSG

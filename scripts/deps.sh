@@ -4,7 +4,7 @@
 set -e
 what=${1:-all}
 build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev libdraco-dev libcmocka-dev libmeshoptimizer-dev"
-test_pkgs="draco mandoc clang valgrind libclang-rt-14-dev libxml2-utils strace"
+test_pkgs="draco mandoc clang valgrind libclang-rt-14-dev libxml2-utils strace blender python3-numpy"
 # the cluster recipes' tests (tests/t_parallel.sh, tests/t_slurm.sh)
 test_pkgs="$test_pkgs parallel slurmctld slurmd slurm-client munge"
 case "$what" in

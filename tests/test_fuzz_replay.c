@@ -35,7 +35,8 @@ static jmf_input_format dir_format(const char *name)
 static void replay_one(const char *path, const unsigned char *d, size_t n, jmf_input_format f, const char *name)
 {
     int drop;
-    for (drop = 0; drop < 2; drop++) {
+    /* 0, 1: drop_invalid off/on; 2, 3: the same with every attribute asked for */
+    for (drop = 0; drop < 4; drop++) {
         jmf_read_options o;
         jmf_frame fr;
         char err[512];
@@ -43,7 +44,8 @@ static void replay_one(const char *path, const unsigned char *d, size_t n, jmf_i
         size_t i;
         memset(&o, 0, sizeof o);
         o.format = f;
-        o.drop_invalid = drop;
+        o.drop_invalid = drop & 1;
+        o.attributes = drop >= 2 ? "all" : NULL;
         o.max_bytes = 64u << 20; /* as in tests/fuzz/fuzz_common.h */
         st = jmf_read_particles_mem(d, n, name, &o, &fr, err, sizeof err);
         if ((int)st < JMF_OK || st > JMF_E_LIMIT) fail_msg("%s: status %d out of range", path, (int)st);
@@ -56,7 +58,16 @@ static void replay_one(const char *path, const unsigned char *d, size_t n, jmf_i
         if ((fr.count == 0) != (fr.xyz == NULL)) fail_msg("%s: count %zu with xyz %p", path, fr.count, (void *)fr.xyz);
         for (i = 0; i < 3 * fr.count; i++)
             if (!isfinite(fr.xyz[i])) fail_msg("%s: non-finite coordinate %zu", path, i);
-        if (!drop && fr.dropped) fail_msg("%s: dropped without drop_invalid", path);
+        if (!(drop & 1) && fr.dropped) fail_msg("%s: dropped without drop_invalid", path);
+        for (i = 0; i < fr.attribute_count; i++) {
+            const jmf_attribute *a = &fr.attributes[i];
+            size_t k;
+            if (a->components < 1 || a->components > 4 || !a->name || !*a->name)
+                fail_msg("%s: attribute %zu malformed", path, i);
+            for (k = 0; k < fr.count * (size_t)a->components; k++)
+                if (!isfinite(a->values[k])) fail_msg("%s: attribute %s value %zu not finite", path, a->name, k);
+        }
+        if (drop < 2 && (fr.attribute_count || fr.array_names)) fail_msg("%s: attributes not asked for", path);
         jmf_frame_free(&fr);
     }
 }
