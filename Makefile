@@ -4,6 +4,7 @@
 #   make demo       convert the jet sample     make bench   benchmark suite -> BENCHMARKS.md
 #   make fuzz       run the fuzzers            make install PREFIX=/usr/local
 #   make kill-soak  signals at random moments, cores loaded (the long kill test)
+#   make pictures   the README's renders (docs/*.png, headless Blender)
 
 CC      ?= cc
 CXX     ?= c++
@@ -46,7 +47,7 @@ CLI   = $(BUILD)/jetmesh
 
 .SECONDARY:
 
-.PHONY: all deps deps-build check kill-soak test-unit test-scripts demo bench fuzz fuzz-build install clean asan
+.PHONY: all deps deps-build check kill-soak pictures test-unit test-scripts demo bench fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
@@ -107,6 +108,10 @@ test-scripts: tests-build
 kill-soak: tests-build
 	@KILL_ROUNDS=$${KILL_ROUNDS:-24} JETMESH_ROOT=$(CURDIR) JETMESH=$(CURDIR)/$(BUILD)/jetmesh \
 	    JETMESH_BUILD=$(CURDIR)/$(BUILD) sh tests/t_cli_kill_race.sh
+
+# The README's pictures (docs/*.png), rendered by headless Blender.
+pictures: all
+	@scripts/pictures.sh $(BUILD)
 
 # The main job: convert the shipped jet sequence (see README).
 demo: deps
