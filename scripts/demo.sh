@@ -20,12 +20,16 @@ echo "== the same frames -> glTF with Draco compression (for the web)"
 echo "== the same frames -> OBJ (for MeshLab and anything else)"
 "$J" convert 'samples/jet/jet_{}.csv' -r 0.025 -o "$OUT/obj/jet_{}.obj" -q
 
-echo "== the same 100 frames as ONE animated GLB (a node per frame, shown at its time; 24 fps)"
-"$J" convert 'samples/jet/jet_{}.csv' -r 0.025 --animate --fps 24 -o "$OUT/jet_animated.glb" -q
+echo "== the same 100 frames as ONE animated GLB, smoothed into liquid (--smooth 25 --smooth-normals 10; a node per frame, 24 fps)"
+"$J" convert 'samples/jet/jet_{}.csv' -r 0.025 --smooth 25 --smooth-normals 10 --animate --fps 24 \
+    -o "$OUT/jet_animated.glb" -q
 
 echo "== a real SPlisHSPlasH frame (4,732 particles) -> bulk fluid: the SPH colour field and marching cubes, chosen automatically"
 "$J" convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 \
     -o "$OUT/dam_break.glb"
+echo "== the same frame smoothed (--smooth 25 --smooth-normals 10: no orange peel, volume kept)"
+"$J" convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 \
+    --smooth 25 --smooth-normals 10 -o "$OUT/dam_break_smooth.glb"
 
 script=$("$J" --blender-script)
 glb=$(du -sh "$OUT/glb" | cut -f1); drc=$(du -sh "$OUT/draco" | cut -f1); obj=$(du -sh "$OUT/obj" | cut -f1)
@@ -35,8 +39,9 @@ Done. Everything is in $OUT/:
   glb/jet_000.glb ... jet_099.glb    ($glb)  glTF 2.0 binary, normals and UVs
   draco/jet_*.draco.glb              ($drc)  the same, Draco-compressed
   obj/jet_*.obj                      ($obj)
-  jet_animated.glb                   all 100 frames in one animated GLB (--animate)
+  jet_animated.glb                   all 100 frames in one animated GLB (--animate), smoothed
   dam_break.glb                      a real frame, SPH colour field
+  dam_break_smooth.glb               the same, smoothed (compare them side by side)
   stats.csv, stats_draco.json        per-frame timings and a summary
   stats.svg                          time per frame by stage (open in a browser)
 
