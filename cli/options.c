@@ -86,6 +86,8 @@ void options_convert_help(FILE *f)
         "      --uv-axis x|y|z         --uv planar: the projection axis (default z)\n"
         "      --no-compensation       metasphere: leave vertices on the surface (no\n"
         "                              chord-sag offset; the mesh is then a bit small)\n"
+        "      --exact-surface         metasphere: check every piece near each vertex,\n"
+        "                              so all lie on the exact surface (slower)\n"
         "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
         "                              limit; default half the physical memory)\n"
         "\n"
@@ -147,7 +149,8 @@ void options_generate_help(FILE *f)
 enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
-    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED
+    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
+    O_EXACT
 };
 
 static const struct option convert_long[] = {
@@ -165,6 +168,7 @@ static const struct option convert_long[] = {
     {"no-templates", no_argument, 0, O_NOTEMPLATES},
     {"uv-axis", required_argument, 0, O_UVAXIS},
     {"no-compensation", no_argument, 0, O_NOCOMP},
+    {"exact-surface", no_argument, 0, O_EXACT},
     {"output", required_argument, 0, 'o'},
     {"format", required_argument, 0, O_FORMAT},
     {"draco", no_argument, 0, O_DRACO},
@@ -285,6 +289,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_NONORMALS: o->params.no_normals = 1; break;
         case O_NOTEMPLATES: o->params.no_templates = 1; break;
         case O_NOCOMP: o->params.no_compensation = 1; break;
+        case O_EXACT: o->params.exact_surface = 1; break;
         case O_UVAXIS:
             if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
             else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;

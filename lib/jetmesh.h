@@ -173,6 +173,12 @@ typedef struct jm_params {
                                  Extraction), so volumes come out unbiased */
     size_t max_bytes;       /**< refuse frames whose estimated working memory
                                  exceeds this (JM_E_TOO_LARGE); 0 = no limit */
+    int exact_surface;      /**< metasphere: 1 checks every piece near each
+                                 vertex, not only the two that won at its
+                                 edge's nodes (see Vertex placement): every
+                                 vertex on the exact surface, normals blended
+                                 over all the pieces meeting there; about
+                                 1.5 times the time of the jet */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */

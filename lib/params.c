@@ -1,5 +1,6 @@
 /* params.c - status messages, version, and parameter defaults/validation. */
 #include "internal.h"
+#include "metavertex.h"
 #include <math.h>
 
 const char *jm_status_message(jm_status status)
@@ -91,6 +92,8 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->templates = !p.no_templates;
     c->compensate = !p.no_compensation;
     c->max_bytes = p.max_bytes;
+    c->exact = p.exact_surface != 0;
+    if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);
     if (f) *f = p;
     return JM_OK;
 }
