@@ -126,7 +126,10 @@ static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand
     memcpy(n, nk[w], sizeof nk[w]);
     *glen = gk[w];
     *win = cand[w];
-    if (blend) {
+    if (blend && !(v[1 - w] > v[w] - c->mv_tau)) {
+        /* the other piece out of reach (or none): the winner's normal */
+        memcpy(blend, n, 3 * sizeof *n);
+    } else if (blend) {
         const float tau = c->mv_tau;
         float w0 = v[0] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[0]) / tau;
         float w1 = v[1] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[1]) / tau;

@@ -492,7 +492,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     if (job.failed) { s = JM_E_INTERNAL; goto out_job; }
     jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
     if (c->field == JM_FIELD_METASPHERE && (c->compensate || c->normals) &&
-        !jm_meta_finish(&ctx->mem, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate, c->normals)) {
+        !jm_meta_finish(&ctx->mem, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate, c->normals,
+                        0.1f * c->h)) {
         s = JM_E_OUT_OF_MEMORY;
         goto out_job;
     }

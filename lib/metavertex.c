@@ -2,9 +2,6 @@
 #include "metavertex.h"
 #include <math.h>
 #include <string.h>
-#ifdef JM_EXPERIMENT
-#include <stdlib.h>
-#endif
 
 /* How far from its particle a piece can exceed `level`: a half-neck at s
  * along its axis reaches sqrt(s^2 + q^2) < s + r (cos(s/r) - level), which
@@ -32,10 +29,6 @@ void jm_metavertex_config(jm_config *c)
     /* normals blend the pieces within this of the maximum */
     c->mv_tau = 0.5f * c->h / c->r;
     if (c->mv_tau > 0.5f) c->mv_tau = 0.5f;
-#ifdef JM_EXPERIMENT
-    if (getenv("MV_TAU")) c->mv_tau = (float)atof(getenv("MV_TAU"));
-    if (getenv("MV_TOL")) c->mv_tol = (float)atof(getenv("MV_TOL"));
-#endif
     float reach = reach_of(c, c->threshold - c->mv_tau);
     c->mv_reach2 = reach * reach;
     /* A surface point lies within reach_of(threshold) of its winning

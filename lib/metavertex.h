@@ -25,8 +25,8 @@ void jm_meta_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, u
 
 /* The stitched mesh's last pass (pos, nrm: nv vertices; idx: nt
  * triangles): compensate moves every vertex outward by the estimated chord
- * sag of its triangles; facing pulls a normal that points away from one of
+ * sag of its triangles (at most max_sag); facing pulls a normal that points away from one of
  * its triangles toward theirs. 0 if out of memory. */
 int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
-                   int facing);
+                   int facing, float max_sag);
 #endif
