@@ -194,7 +194,7 @@ typedef struct jm_params {
                                  edge's nodes (see Vertex placement): every
                                  vertex on the exact surface, normals blended
                                  over all the pieces meeting there; about
-                                 1.6 times the time of the jet */
+                                 1.7 times the instructions of the jet */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
