@@ -92,6 +92,8 @@ void options_convert_help(FILE *f)
         "                              (removed by default: sub-particle bubbles)\n"
         "      --no-compensation       metasphere: leave vertices on the surface (no\n"
         "                              chord-sag offset; the mesh is then a bit small)\n"
+        "      --exact-surface         metasphere: check every piece near each vertex,\n"
+        "                              so all lie on the exact surface (slower)\n"
         "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
         "                              limit; default half the physical memory)\n"
         "      --anisotropic           sph: Yu-Turk anisotropic kernels on smoothed centres:\n"
@@ -184,7 +186,7 @@ enum {
     O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
     O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
     O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
-    O_ANISO, O_ANISO_RADIUS, O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY,
+    O_ANISO, O_ANISO_RADIUS, O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY, O_EXACT,
     /* sequences for Blender, ParaView and the web */
     O_ANIMATE = 500, O_FPS, O_TIMESTEP, O_PVD, O_ATTRS
 };
@@ -209,6 +211,7 @@ static const struct option convert_long[] = {
     {"uv-axis", required_argument, 0, O_UVAXIS},
     {"no-compensation", no_argument, 0, O_NOCOMP},
     {"keep-cavities", no_argument, 0, O_KEEPCAV},
+    {"exact-surface", no_argument, 0, O_EXACT},
     {"output", required_argument, 0, 'o'},
     {"format", required_argument, 0, O_FORMAT},
     {"draco", no_argument, 0, O_DRACO},
@@ -367,6 +370,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
             else
                 o->params.simplify_error = (float)d;
             break;
+        case O_EXACT: o->params.exact_surface = 1; break;
         case O_UVAXIS:
             if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
             else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;

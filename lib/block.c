@@ -1,5 +1,6 @@
 /* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
 #include "block.h"
+#include "metavertex.h"
 #include "tables.h"
 #include <math.h>
 #include <stdlib.h>
@@ -108,12 +109,14 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
 }
 
 /* Metasphere at p, from the pieces that won at the edge's two nodes (the
- * field is their maximum near the edge): returns the value; n gets the
- * winning piece's outward normal and *glen its gradient length; blend (may
- * be NULL) the normal to output: the winner's, or along a crease of the
- * union (both pieces within tau of each other) the blend of both. */
+ * field is their maximum near the edge, but see jm_meta_settle): returns
+ * the value; n gets the winning piece's outward normal, *glen its gradient
+ * length and *win the piece; blend (may be NULL) the normal to output: the
+ * winner's, or along a crease of the union (both pieces within the blend
+ * width of each other) the blend of both, weighted smoothly by how close
+ * each comes to the maximum. */
 static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
-                       float *glen, float blend[3])
+                       float *glen, float blend[3], uint32_t *win)
 {
     float nk[2][3], v[2] = {-INFINITY, -INFINITY}, gk[2] = {0, 0};
     for (int k = 0; k < 2; k++)
@@ -123,12 +126,16 @@ static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand
     if (v[w] == -INFINITY) return -INFINITY;
     memcpy(n, nk[w], sizeof nk[w]);
     *glen = gk[w];
-    if (blend) {
-        const float tau = 0.1f * c->h / c->r;
+    *win = cand[w];
+    if (blend && !(v[1 - w] > v[w] - c->mv_tau)) {
+        /* the other piece out of reach (or none): the winner's normal */
+        memcpy(blend, n, 3 * sizeof *n);
+    } else if (blend) {
+        const float tau = c->mv_tau;
         float w0 = v[0] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[0]) / tau;
         float w1 = v[1] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[1]) / tau;
-        w0 = w0 > 0.0f ? w0 : 0.0f;
-        w1 = w1 > 0.0f ? w1 : 0.0f;
+        w0 = w0 > 0.0f ? w0 * w0 * (3.0f - 2.0f * w0) : 0.0f;
+        w1 = w1 > 0.0f ? w1 * w1 * (3.0f - 2.0f * w1) : 0.0f;
         float o[3], len = 0.0f;
         for (int a = 0; a < 3; a++) {
             o[a] = (w0 > 0.0f ? w0 * nk[0][a] : 0.0f) + (w1 > 0.0f ? w1 * nk[1][a] : 0.0f);
@@ -148,12 +155,14 @@ static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand
  * refined on the exact function (directly for a single ball, else by
  * safeguarded Newton steps), so vertices lie on the surface, not on the
  * chord of the samples. When the last evaluation was at the returned t,
- * nrm gets the output normal there and *have_nrm is set. */
+ * nrm gets the output normal there and *have_nrm is set; *win gets the
+ * piece winning at the last point evaluated. */
 static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
-                         const float ab[3], float fa, float t, float nrm[3], int *have_nrm)
+                         const float ab[3], float fa, float t, float nrm[3], int *have_nrm, uint32_t *win)
 {
     *have_nrm = 0;
     uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
+    *win = one;
     if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
         /* a single ball: |a + t ab - q| = r (1 - threshold), solved directly */
         const float *q = &g->pos[3 * (size_t)one];
@@ -176,7 +185,7 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
     const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
     for (int it = 0; it < 4; it++) {
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
-        float f = cand_eval(g, c, cand, p, n, &glen, nrm) - c->threshold;
+        float f = cand_eval(g, c, cand, p, n, &glen, nrm, win) - c->threshold;
         if (fabsf(f) < tol) {
             *have_nrm = 1;
             return t;
@@ -203,7 +212,8 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
 static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float nrm[3])
 {
     float n[3], glen;
-    cand_eval(g, c, cand, p, n, &glen, nrm);
+    uint32_t win;
+    cand_eval(g, c, cand, p, n, &glen, nrm, &win);
 }
 
 /* Sorts (slot, index) pairs by slot. They are made in scan order, so
@@ -397,11 +407,16 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             float tt = (thr - fa) / (fb - fa);
                             float mn[3];
                             int have_mn = 0;
-                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL;
+                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL, win = UINT32_MAX;
                             if (meta) {
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, mn, &have_mn);
+                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, mn, &have_mn, &win);
+                                if (c->exact) {
+                                    /* every piece near the point, not just the two candidates */
+                                    tt = jm_meta_settle(g, c, &s->hood, cv, win, a, ab, fa - thr, tt, want_nrm ? mn : NULL);
+                                    have_mn = want_nrm;
+                                }
                             }
                             float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
                             float *p = &out->pos[3 * out->nv];
@@ -414,6 +429,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 /* reuse the normal of the refinement's last
                                  * evaluation when it was at this very point */
                                 if (have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
+                                else if (c->exact) jm_meta_normal(g, c, &s->hood, win, p, nr);
                                 else cand_normal(g, c, cv, p, nr);
                             }
                             ref = (uint32_t)out->nv++;

@@ -69,6 +69,12 @@ typedef struct jm_config {
     int smooth_iters;        /* post.h: feature-weighted smoothing iterations */
     int smooth_normal_iters; /* normal smoothing iterations */
     float simplify_error;    /* world units; 0 = no simplification */
+    /* metasphere vertices (metavertex.c) */
+    float mv_tol;      /* a piece beating a vertex's value by more moves it (units of r) */
+    float mv_tau;      /* normals blend the pieces within this of the maximum (units of r) */
+    float mv_reach2;   /* no piece exceeds threshold - mv_tau farther than this (squared) from its particle */
+    int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
+    int exact;         /* metasphere: settle every vertex on all the pieces near it */
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

@@ -2,6 +2,7 @@
 #include "block.h"
 #include "cavities.h"
 #include "post.h"
+#include "metavertex.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -262,48 +263,6 @@ static void template_task(void *arg, size_t k, int worker)
     for (size_t t = 0; t < ctx->t_ni; t++) dst[t] = (uint32_t)(v0 + ctx->t_idx[t]);
 }
 
-/* A triangle whose corners lie on a curved surface cuts inside it by, on
- * average over its area, sum over its edges of k_e l_e^2 / 24 (k_e the normal
- * curvature along edge e; exact for a sphere), and k_e l_e^2 = dn . dp with the
- * field's unit normals n. Moving every vertex outward by the area-weighted
- * mean of that sag over its triangles makes the mesh straddle the surface
- * instead of being inscribed in it, so areas and volumes come out unbiased. */
-static int compensate_sag(jm_context *ctx)
-{
-    size_t nv = ctx->nv, nt = ctx->ni / 3;
-    float *acc = jm_calloc(&ctx->mem, 2 * nv, sizeof(float));
-    if (!acc) return 0;
-    const float *P = ctx->pos, *N = ctx->nrm;
-    for (size_t t = 0; t < nt; t++) {
-        const uint32_t *v = ctx->idx + 3 * t;
-        float sag = 0.0f, e1[3], e2[3];
-        for (int k = 0; k < 3; k++) {
-            const float *pa = P + 3 * v[k], *pb = P + 3 * v[(k + 1) % 3];
-            const float *na = N + 3 * v[k], *nb = N + 3 * v[(k + 1) % 3];
-            sag += (nb[0] - na[0]) * (pb[0] - pa[0]) + (nb[1] - na[1]) * (pb[1] - pa[1]) +
-                   (nb[2] - na[2]) * (pb[2] - pa[2]);
-        }
-        sag *= 1.0f / 24.0f;
-        for (int a = 0; a < 3; a++) {
-            e1[a] = P[3 * v[1] + a] - P[3 * v[0] + a];
-            e2[a] = P[3 * v[2] + a] - P[3 * v[0] + a];
-        }
-        float cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
-        float area = 0.5f * sqrtf(cx * cx + cy * cy + cz * cz);
-        for (int k = 0; k < 3; k++) {
-            acc[2 * v[k]] += area * sag;
-            acc[2 * v[k] + 1] += area;
-        }
-    }
-    for (size_t i = 0; i < nv; i++) {
-        if (!(acc[2 * i + 1] > 0.0f)) continue;
-        float d = acc[2 * i] / acc[2 * i + 1];
-        for (int a = 0; a < 3; a++) ctx->pos[3 * i + a] += d * N[3 * i + a];
-    }
-    jm_free(&ctx->mem, acc, 2 * nv * sizeof(float));
-    return 1;
-}
-
 static int cmp_u64(const void *a, const void *b)
 {
     uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
@@ -553,7 +512,9 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     jm_pool_run(ctx->pool, job.npend, 4096, resolve_task, &job);
     if (job.failed) { s = JM_E_INTERNAL; goto out_job; }
     jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
-    if (c->field == JM_FIELD_METASPHERE && c->compensate && !compensate_sag(ctx)) {
+    if (c->field == JM_FIELD_METASPHERE && (c->compensate || c->normals) &&
+        !jm_meta_finish(&ctx->mem, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate, c->normals,
+                        0.1f * c->h)) {
         s = JM_E_OUT_OF_MEMORY;
         goto out_job;
     }

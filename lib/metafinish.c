@@ -1,0 +1,194 @@
+/* metafinish.c - the stitched metasphere mesh's last pass: chord-sag compensation, normals kept facing their triangles. */
+#include "metavertex.h"
+#include <math.h>
+#include <string.h>
+
+/* Sag: a triangle whose corners lie on a curved surface cuts inside it by,
+ * on average over its area, sum over its edges of k_e l_e^2 / 24 (k_e the
+ * normal curvature along edge e; exact for a sphere), and k_e l_e^2 = dn . dp
+ * with the field's unit normals n. Moving every vertex outward by the
+ * area-weighted mean of that sag over its triangles makes the mesh straddle
+ * the surface instead of being inscribed in it, so areas and volumes come
+ * out unbiased.
+ *
+ * Facing: where the surface bends or creases more sharply than the cubes
+ * can follow (the tunnels and saddles between densely packed particles), a
+ * triangle may stand almost across the surface, and the field's normal at a
+ * corner then points away from it (a renderer shades that corner from
+ * behind). Such a vertex's normal is turned toward its triangles until it
+ * faces them all (see face_normals), after the sag has moved the vertices. */
+/* the triangle's corners and normals, its edges and its normal (x2 area) */
+#define LOAD_TRIANGLE                                                                                     \
+    const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};                                \
+    float p[3][3], n[3][3], e1[3], e2[3], e3[3];                                                          \
+    for (int k = 0; k < 3; k++)                                                                           \
+        for (int a = 0; a < 3; a++) p[k][a] = P[3 * (size_t)vi[k] + a], n[k][a] = N[3 * (size_t)vi[k] + a]; \
+    for (int a = 0; a < 3; a++) {                                                                         \
+        e1[a] = p[1][a] - p[0][a];                                                                        \
+        e2[a] = p[2][a] - p[1][a];                                                                        \
+        e3[a] = p[0][a] - p[2][a];                                                                        \
+    }                                                                                                     \
+    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],                   \
+                         e3[0] * e1[1] - e3[1] * e1[0]};                                                  \
+    const float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);                             \
+    (void)e2
+
+/* Normals facing their triangles. flag: nv bytes of scratch. A corner
+ * faces its triangle when the cosine between the vertex normal and the
+ * triangle's exceeds COS_MIN; each vertex with a corner that does not
+ * gathers its triangles' unit normals, and its normal is pushed toward
+ * those it fails (by their sum, renormalised) until it faces all of them,
+ * keeping the best of a few steps (a fan folded over itself may have no
+ * normal facing every triangle). */
+#define COS_MIN 0.02f
+static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
+                        size_t nt, uint8_t *flag)
+{
+    memset(flag, 0, nv);
+    size_t bad = 0;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
+        const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+        const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+        const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
+                             e3[0] * e1[1] - e3[1] * e1[0]};
+        /* cos > COS_MIN without the square root */
+        const float lim2 = COS_MIN * COS_MIN * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        for (int k = 0; k < 3; k++) {
+            const float *n = N + 3 * (size_t)vi[k];
+            float d = n[0] * cr[0] + n[1] * cr[1] + n[2] * cr[2];
+            if (!(d > 0.0f && d * d > lim2) && !flag[vi[k]]) {
+                flag[vi[k]] = 1;
+                bad++;
+            }
+        }
+    }
+    if (!bad) return 1;
+    /* the flagged vertices' triangles: (slot, unit normal) for each corner
+     * at one, then sorted by slot */
+    size_t cap = 8 * bad, np = 0;
+    uint32_t *slot = jm_alloc(mem, nv * sizeof *slot), *who = jm_alloc(mem, bad * sizeof *who);
+    uint32_t *start = jm_calloc(mem, bad + 1, sizeof *start);
+    float *pair = jm_alloc(mem, 3 * cap * sizeof *pair), *fn = NULL;
+    uint32_t *pslot = jm_alloc(mem, cap * sizeof *pslot);
+    int ok = slot && who && start && pair && pslot;
+    if (ok) {
+        size_t b = 0;
+        for (size_t i = 0; i < nv; i++) {
+            slot[i] = flag[i] ? (uint32_t)b : UINT32_MAX;
+            if (flag[i]) who[b++] = (uint32_t)i;
+        }
+        for (size_t t = 0; t < nt && ok; t++) {
+            const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
+            if (!flag[vi[0]] && !flag[vi[1]] && !flag[vi[2]]) continue;
+            const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+            const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+            const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+            float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2], e3[0] * e1[1] - e3[1] * e1[0]};
+            float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+            for (int a = 0; a < 3; a++) cr[a] = len > 0.0f ? cr[a] / len : 0.0f;
+            for (int k = 0; k < 3; k++) {
+                if (!flag[vi[k]]) continue;
+                if (np == cap) {
+                    float *q = jm_realloc(mem, pair, 3 * cap * sizeof *pair, 6 * cap * sizeof *pair);
+                    if (q) pair = q;
+                    uint32_t *u = q ? jm_realloc(mem, pslot, cap * sizeof *pslot, 2 * cap * sizeof *pslot) : NULL;
+                    if (!u) {
+                        if (q) pair = jm_realloc(mem, pair, 6 * cap * sizeof *pair, 3 * cap * sizeof *pair);
+                        ok = 0;
+                        break;
+                    }
+                    pslot = u;
+                    cap *= 2;
+                }
+                pslot[np] = slot[vi[k]];
+                memcpy(pair + 3 * np++, cr, sizeof cr);
+                start[slot[vi[k]] + 1]++;
+            }
+        }
+    }
+    if (ok) {
+        for (size_t k = 0; k < bad; k++) start[k + 1] += start[k];
+        fn = jm_alloc(mem, 3 * np * sizeof *fn);
+        ok = fn != NULL;
+    }
+    if (ok) {
+        /* slot's triangles in order: fill with slot[] reused as cursors */
+        for (size_t k = 0; k < bad; k++) slot[k] = start[k];
+        for (size_t j = 0; j < np; j++) memcpy(fn + 3 * (size_t)slot[pslot[j]]++, pair + 3 * j, 3 * sizeof *fn);
+        for (size_t k = 0; k < bad; k++) {
+            float *nn = N + 3 * (size_t)who[k], cur[3] = {nn[0], nn[1], nn[2]}, best[3] = {nn[0], nn[1], nn[2]};
+            float best_min = -2.0f;
+            for (int it = 0; it < 8; it++) {
+                float worst = 2.0f, push[3] = {0, 0, 0};
+                for (uint32_t j = start[k]; j < start[k + 1]; j++) {
+                    const float *f = fn + 3 * (size_t)j;
+                    float d = cur[0] * f[0] + cur[1] * f[1] + cur[2] * f[2];
+                    if (d < worst) worst = d;
+                    if (!(d > COS_MIN))
+                        for (int a = 0; a < 3; a++) push[a] += f[a];
+                }
+                if (worst > best_min) {
+                    best_min = worst;
+                    memcpy(best, cur, sizeof cur);
+                }
+                if (worst > COS_MIN) break;
+                float l = 0.0f;
+                for (int a = 0; a < 3; a++) {
+                    cur[a] += push[a];
+                    l += cur[a] * cur[a];
+                }
+                l = sqrtf(l);
+                if (!(l > 0.0f)) break;
+                for (int a = 0; a < 3; a++) cur[a] /= l;
+            }
+            memcpy(nn, best, sizeof best);
+        }
+    }
+    jm_free(mem, fn, 3 * np * sizeof *fn);
+    jm_free(mem, pair, 3 * cap * sizeof *pair);
+    jm_free(mem, pslot, cap * sizeof *pslot);
+    jm_free(mem, start, (bad + 1) * sizeof *start);
+    jm_free(mem, who, bad * sizeof *who);
+    jm_free(mem, slot, nv * sizeof *slot);
+    return ok;
+}
+
+int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
+                   int facing, float max_sag)
+{
+    /* per vertex: sag * area, area; then the facing's flags */
+    float *acc = jm_calloc(mem, 2 * nv + 1, sizeof(float));
+    if (!acc) return 0;
+    float *A = acc;
+    const float *P = pos, *N = nrm;
+    if (compensate) {
+        for (size_t t = 0; t < nt; t++) {
+            LOAD_TRIANGLE;
+            float sag = (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
+                        (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
+                        (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
+            const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
+            for (int k = 0; k < 3; k++) {
+                A[2 * (size_t)vi[k]] += as;
+                A[2 * (size_t)vi[k] + 1] += area;
+            }
+        }
+        for (size_t i = 0; i < nv; i++) {
+            if (!(A[2 * i + 1] > 0.0f)) continue;
+            float d = A[2 * i] / A[2 * i + 1];
+            /* where the normals turn across a triangle more than a curved
+             * surface could (creases and folds finer than the cubes), the
+             * estimate means nothing: at most a tenth of a cube */
+            d = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
+            for (int a = 0; a < 3; a++) pos[3 * i + a] += d * N[3 * i + a];
+        }
+    }
+    if (facing && !face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc)) {
+        jm_free(mem, acc, (2 * nv + 1) * sizeof(float));
+        return 0;
+    }
+    jm_free(mem, acc, (2 * nv + 1) * sizeof(float));
+    return 1;
+}
