@@ -8,7 +8,7 @@ W=$(mktemp -d "${TMPDIR:-/tmp}/jetmesh-pictures.XXXXXX")
 trap 'rm -rf "$W"' EXIT
 command -v blender >/dev/null 2>&1 || { echo "pictures: needs Blender (apt-get install blender python3-numpy)" >&2; exit 1; }
 mkdir -p docs
-render() { # out.png size files...
+render() { # out.png size [render.py options] files...
     out=$1 size=$2
     shift 2
     blender -b --factory-startup --python-exit-code 1 --python scripts/render.py -- \
@@ -23,5 +23,5 @@ R=samples/real/double_dam_break_frame_26_4732_particles.vtk
 render docs/dam_break.png 1400x420 "$W/db_default.glb" "$W/db_smooth.glb" "$W/db_aniso.glb"
 "$J" convert samples/jet/jet_099.csv -r 0.025 -q -o "$W/jet_default.glb"
 "$J" convert samples/jet/jet_099.csv -r 0.025 --smooth 25 --smooth-normals 10 -q -o "$W/jet_smooth.glb"
-render docs/jet.png 1400x300 "$W/jet_default.glb"
-render docs/jet_smooth.png 1400x300 "$W/jet_smooth.glb"
+render docs/jet.png 1200x300 --xfrac 0.55:0.85 --view front "$W/jet_default.glb"
+render docs/jet_smooth.png 1200x300 --xfrac 0.55:0.85 --view front "$W/jet_smooth.glb"
