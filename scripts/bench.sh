@@ -120,6 +120,39 @@ seq_s=$(median_of default) one_s=$(median_of one_at_a_time) nosync_s=$(median_of
 echo "sequence (median of $ROUNDS): $seq_s s ($seq_files GLB files, ok=$seq_ok), one at a time $one_s s," \
   "--no-sync $nosync_s s; 100 process starts: $starts_s s"
 
+# --- side by side with splashsurf (../shared/peers/splashsurf/ssbench) -----------
+# The same 100k block file, alternating rounds: splashsurf 0.14 read +
+# reconstruct at 1 and 2 threads and its recommended post-processing, against
+# jetmesh bench's library time and --smooth 25 --smooth-normals 10.
+PEER="$SHARED/peers/splashsurf/ssbench"
+PEER_DIR="$OUT/peer"
+mkdir -p "$PEER_DIR"
+peer_build=""
+if [ -x "$PEER" ]; then
+  if grep -q avx512f /proc/cpuinfo 2>/dev/null; then peer_build="v4 (AVX-512)"; else peer_build="v3 (AVX2)"; fi
+  "$J" generate block 100000 -q -o "$T/block100k.xyz" || status=1
+  PROUNDS=3
+  [ -n "$QUICK" ] && PROUNDS=1
+  echo "== peer: $PEER ($peer_build) beside $J bench, 100k block, $PROUNDS rounds"
+  r=1
+  while [ $r -le "$PROUNDS" ]; do
+    for t in 1 2; do
+      "$PEER" "$T/block100k.xyz" -r 0.025 -s 0.0125 --threads $t >"$PEER_DIR/ss_t${t}_$r.json" 2>>"$PEER_DIR/log" || status=1
+      # shellcheck disable=SC2086
+      "$J" bench "$T/block100k.xyz" $SPH --method mc -j $t $QUICK --json-out "$PEER_DIR/jm_t${t}_$r.json" >/dev/null || status=1
+    done
+    "$PEER" "$T/block100k.xyz" -r 0.025 -s 0.0125 --threads 1 --mesh-cleanup --mesh-smoothing-weights \
+      --mesh-smoothing-iters 25 --normals --normals-smoothing-iters 10 >"$PEER_DIR/ss_post_$r.json" 2>>"$PEER_DIR/log" || status=1
+    # shellcheck disable=SC2086
+    "$J" bench "$T/block100k.xyz" $SPH --method mc -j 1 --smooth 25 --smooth-normals 10 $QUICK \
+      --json-out "$PEER_DIR/jm_post_$r.json" >/dev/null || status=1
+    r=$((r + 1))
+  done
+  echo "$PEER <block100k.xyz> -r 0.025 -s 0.0125 --threads 1|2 [--mesh-cleanup --mesh-smoothing-weights --mesh-smoothing-iters 25 --normals --normals-smoothing-iters 10]" >>"$OUT/commands.sh"
+else
+  echo "== peer: skipped: $PEER is missing (set JETMESH_SHARED)"
+fi
+
 # --- build/bench.json -------------------------------------------------------------
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
@@ -152,9 +185,9 @@ echo "wrote $BUILD/bench.json"
 # --- BENCHMARKS.md -------------------------------------------------------------
 elapsed=$(( $(date +%s) - started ))
 if command -v node >/dev/null 2>&1; then
-  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" >"$MD.tmp" <<'EOF' || status=1
+  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" "$PEER_DIR" "$peer_build" >"$MD.tmp" <<'EOF' || status=1
 const fs = require("fs");
-const [file, cmdfile, elapsed] = process.argv.slice(2);
+const [file, cmdfile, elapsed, peerDir, peerBuild] = process.argv.slice(2);
 const B = JSON.parse(fs.readFileSync(file, "utf8"));
 const cmds = fs.readFileSync(cmdfile, "utf8").trim();
 const out = [];
@@ -176,6 +209,24 @@ function find(group, name, field, method, threads, templates = true) {
     c.threads === threads && c.templates === templates && c.status === "ok") || null;
 }
 const sec = (c) => (c ? c.ms.total.median / 1e3 : null);
+
+// the side-by-side runs with splashsurf: medians over the rounds
+const median = (a) => {
+  const v = a.filter((x) => x != null && isFinite(x)).sort((x, y) => x - y);
+  if (!v.length) return null;
+  return v.length % 2 ? v[(v.length - 1) / 2] : (v[v.length / 2 - 1] + v[v.length / 2]) / 2;
+};
+function peerRuns(prefix, pick) {
+  if (!peerBuild || !peerDir || !fs.existsSync(peerDir)) return [];
+  return fs.readdirSync(peerDir).filter((n) => n.startsWith(prefix + "_") && n.endsWith(".json")).map((n) => {
+    try { return pick(JSON.parse(fs.readFileSync(peerDir + "/" + n, "utf8"))); } catch (e) { return null; }
+  });
+}
+const ssTotal = (t) => median(peerRuns("ss_t" + t, (d) => d.total_s * 1e3));
+const jmTotal = (t) => median(peerRuns("jm_t" + t, (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
+const ssPost = median(peerRuns("ss_post", (d) => d.post_s * 1e3));
+const jmPostTotal = median(peerRuns("jm_post", (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
+const jmPost = jmPostTotal != null && jmTotal(1) != null ? jmPostTotal - jmTotal(1) : null;
 
 p("# jetmesh benchmarks");
 p();
@@ -239,16 +290,39 @@ const w2 = b1m2 && b1m2.write ? b1m2.write.fraction_of_total : null, w1 = b1m1 &
 row("GLB write of the 1M mesh ≤ 15 % of total (write / (mesh + write), 2 threads)",
     w2 != null ? `${f(100 * w2, 1)} % (${ms(b1m2.ms.write.median)} ms for ${mb(b1m2.write.bytes)} MB; 1 thread: ${w1 != null ? f(100 * w1, 1) : "–"} %)` : "–",
     w2 != null ? w2 <= 0.15 : null);
+if (peerBuild) {
+  const add = jmPost != null && jmTotal(1) ? jmPost / jmTotal(1) : null;
+  row("100k block, 1 thread: --smooth 25 --smooth-normals 10 adds ≤ 25 % (side by side, medians)",
+      add != null ? `+${f(100 * add, 1)} % (${f(jmPost, 1)} ms on ${f(jmTotal(1), 1)} ms)` : "–", add != null ? add <= 0.25 : null);
+  row("the same smoothing takes less than splashsurf's post-processing on the same mesh",
+      jmPost != null && ssPost != null ? `${f(jmPost, 1)} ms against ${f(ssPost, 1)} ms` : "–",
+      jmPost != null && ssPost != null ? jmPost < ssPost : null);
+}
 p();
 
 // ---- reference
-p("## Other tools");
+p("## Side by side with splashsurf");
 p();
-p("The splashsurf and OpenVDB figures this section used to quote (splashsurf 0.14 at 10.2 s / 6.3 s " +
-  "for the 1M block) came from a splashsurf built for generic x86-64 and were not measured side by side: " +
-  "they are withdrawn. The README's Speed section gives a side-by-side run with " +
-  "`../shared/peers/splashsurf/ssbench` (100k block: splashsurf 0.90 s / 0.73 s, jetmesh 0.45 s / 0.25 s, " +
-  "1 / 2 threads); running the peer inside this suite is still to do.");
+if (!peerBuild) {
+  p("`../shared/peers/splashsurf/ssbench` was not found: no side-by-side run in this report.");
+} else {
+  p(`splashsurf 0.14 through \`ssbench\`, build ${peerBuild}, on the same 100,000-particle block file ` +
+    "(`block 100000`, spacing 2r, jittered), sph colour field, cube 0.5 r, support 4r, threshold 0.6, " +
+    "marching cubes; splashsurf's read + reconstruct against jetmesh's library time; rounds alternate " +
+    "the two; milliseconds, medians over the rounds. Post-processing: splashsurf's recommended " +
+    "`--mesh-cleanup --mesh-smoothing-weights --mesh-smoothing-iters 25 --normals " +
+    "--normals-smoothing-iters 10` (its post_s) against what `--smooth 25 --smooth-normals 10` adds to " +
+    "jetmesh's total.");
+  p();
+  p("| 100k block | splashsurf | jetmesh | ratio |");
+  p("|---|---|---|---|");
+  for (const t of [1, 2])
+    p(`| ${t} thread${t > 1 ? "s" : ""} | ${f(ssTotal(t), 1)} | ${f(jmTotal(t), 1)} | ${ssTotal(t) && jmTotal(t) ? f(jmTotal(t) / ssTotal(t), 2) : "–"} |`);
+  p(`| post-processing, 1 thread | ${f(ssPost, 1)} | ${f(jmPost, 1)} | ${ssPost && jmPost ? f(jmPost / ssPost, 2) : "–"} |`);
+  p();
+  p("The figures an earlier report quoted for splashsurf (10.2 s / 6.3 s at 1M particles) came from a " +
+    "build for generic x86-64, not from a side-by-side run: they are withdrawn.");
+}
 p();
 
 // ---- the groups
