@@ -12,6 +12,7 @@
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
+#include "util/shared_data.h"
 
 #define R 0.025f
 
@@ -283,17 +284,13 @@ static void test_real_frames(void **state)
         "splashsurf/bunny_frame_14_7705_particles.vtk",
         "derived/dam_break_frame_23_24389_particles.xyz",
     };
-    const char *shared = getenv("JETMESH_SHARED");
     int ran = 0;
     for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
-        char path[1024], err[512];
-        snprintf(path, sizeof path, "%s/data/%s", shared ? shared : "../shared", files[k]);
-        jmf_read_options ro;
-        memset(&ro, 0, sizeof ro);
+        char err[512];
         jmf_frame fr;
-        jmf_status s = jmf_read_particles(path, &ro, &fr, err, sizeof err);
-        if (s == JMF_E_IO) continue;
-        if (s != JMF_OK) fail_msg("%s", err);
+        int got = test_read_shared(files[k], NULL, &fr, err, sizeof err);
+        if (got < 0) fail_msg("%s", err);
+        if (!got) continue;
         for (int me = JM_METHOD_MT; me <= JM_METHOD_MC; me++) {
             uint64_t h[2];
             for (int t = 0; t < 2; t++) {

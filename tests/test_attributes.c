@@ -11,6 +11,7 @@
 
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
+#include "util/shared_data.h"
 
 #define R 0.025f
 
@@ -131,14 +132,11 @@ static void test_constant_and_errors(void **state)
 static void test_real_velocity(void **state)
 {
     (void)state;
-    const char *shared = getenv("JETMESH_SHARED");
-    char path[1024];
-    snprintf(path, sizeof path, "%s/data/splashsurf/ParticleData_Fluid_5.vtk", shared ? shared : "../shared");
     jmf_read_options o = {0};
     o.attributes = "velocity";
     jmf_frame f;
     char err[512];
-    if (jmf_read_particles(path, &o, &f, err, sizeof err) != JMF_OK) {
+    if (test_read_shared("splashsurf/ParticleData_Fluid_5.vtk", &o, &f, err, sizeof err) != 1) {
         fprintf(stderr, "skipping: %s\n", err);
         skip();
     }

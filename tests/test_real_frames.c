@@ -11,6 +11,7 @@
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
+#include "util/shared_data.h"
 
 /* splashsurf's own tests (SPH colour field, cubic spline, support 4r,
  * threshold 0.6, marching cubes), as listed in ../shared/data/README.md */
@@ -32,15 +33,10 @@ static const expectation cases[] = {
 
 static int read_frame(const char *rel, jmf_frame *fr)
 {
-    const char *shared = getenv("JETMESH_SHARED");
-    char path[1024], err[512];
-    snprintf(path, sizeof path, "%s/data/%s", shared ? shared : "../shared", rel);
-    jmf_read_options ro;
-    memset(&ro, 0, sizeof ro);
-    jmf_status s = jmf_read_particles(path, &ro, fr, err, sizeof err);
-    if (s == JMF_E_IO) return 0;
-    if (s != JMF_OK) fail_msg("%s", err);
-    return 1;
+    char err[512];
+    int got = test_read_shared(rel, NULL, fr, err, sizeof err);
+    if (got < 0) fail_msg("%s", err);
+    return got;
 }
 
 static void test_published_counts(void **state)
