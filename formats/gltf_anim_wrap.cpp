@@ -412,10 +412,9 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
         return JMF_OK;
     }
     // GLB: header, JSON chunk, BIN chunk copied from the temporary
-    const size_t json_padded = (json_size + 3) / 4 * 4;
+    const size_t json_padded = jmf_glb_pad4(json_size);
     json.push_back(std::string(json_padded - json_size, ' '));
-    const size_t bin_padded = (a->size + 3) / 4 * 4;
-    const uint64_t total = 12 + 8 + json_padded + (a->size ? 8 + bin_padded : 0);
+    const uint64_t total = jmf_glb_total(json_padded, a->size);
     if (total > 0xffffffffu) {
         std::snprintf(err, errlen, "%s: the sequence is too large for one GLB (over 4 GiB); write .gltf",
                       a->path.c_str());
@@ -424,19 +423,11 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
         return JMF_E_LIMIT;
     }
     unsigned char head[20];
-    auto put32 = [](unsigned char *q, uint64_t v) {
-        for (int k = 0; k < 4; k++) q[k] = static_cast<unsigned char>(v >> (8 * k));
-    };
-    std::memcpy(head, "glTF", 4);
-    put32(head + 4, 2);
-    put32(head + 8, total);
-    put32(head + 12, json_padded);
-    std::memcpy(head + 16, "JSON", 4);
+    jmf_glb_header(head, total, json_padded);
     st = jmf_atomic_write(&f, head, 20, err, errlen);
     for (size_t i = 0; !st && i < json.size(); i++) st = jmf_atomic_write(&f, json[i].data(), json[i].size(), err, errlen);
     if (!st && a->size) {
-        put32(head, bin_padded);
-        std::memcpy(head + 4, "BIN\0", 4);
+        jmf_glb_bin_header(head, a->size);
         st = jmf_atomic_write(&f, head, 8, err, errlen);
         if (!st && std::fflush(a->scratch.fp) != 0) {
             std::snprintf(err, errlen, "%s: cannot flush its temporary: %s", a->path.c_str(), std::strerror(errno));
@@ -465,7 +456,7 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
             std::fclose(in);
         }
         static const unsigned char zeros[4] = {0, 0, 0, 0};
-        if (!st) st = jmf_atomic_write(&f, zeros, bin_padded - a->size, err, errlen);
+        if (!st) st = jmf_atomic_write(&f, zeros, jmf_glb_pad4(a->size) - a->size, err, errlen);
     }
     if (!st) st = jmf_atomic_finish(&f, err, errlen);
     else jmf_atomic_abort(&f);

@@ -397,28 +397,19 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
             // GLB: 12-byte header, JSON chunk padded with spaces, BIN chunk
             // padded with zeros (the padding bytes are built.bin_pad).
             while (json.size() % 4) json += ' ';
-            const size_t bin_padded = (buf.size() + 3) / 4 * 4;
-            const uint64_t total = 12 + 8 + json.size() + (buf.empty() ? 0 : 8 + bin_padded);
+            const uint64_t total = jmf_glb_total(json.size(), buf.size());
             if (total > 0xffffffffu) {
                 std::snprintf(err, errlen, "%s: mesh too large for GLB (over 4 GiB); use .gltf", name);
                 return JMF_E_LIMIT;
             }
             unsigned char head[20];
-            auto put32 = [](unsigned char *q, uint64_t v) {
-                for (int k = 0; k < 4; k++) q[k] = static_cast<unsigned char>(v >> (8 * k));
-            };
-            std::memcpy(head, "glTF", 4);
-            put32(head + 4, 2);
-            put32(head + 8, total);
-            put32(head + 12, json.size());
-            std::memcpy(head + 16, "JSON", 4);
+            jmf_glb_header(head, total, json.size());
             os.write(reinterpret_cast<const char *>(head), 20);
             os.write(json.data(), static_cast<std::streamsize>(json.size()));
             if (!buf.empty()) {
-                put32(head, bin_padded);
-                std::memcpy(head + 4, "BIN\0", 4);
+                jmf_glb_bin_header(head, buf.size());
                 os.write(reinterpret_cast<const char *>(head), 8);
-                built.bin_pad = bin_padded - buf.size();
+                built.bin_pad = jmf_glb_pad4(buf.size()) - buf.size();
             }
         } else {
             os.write(json.data(), static_cast<std::streamsize>(json.size()));
