@@ -555,8 +555,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->nv = nv;
         ctx->ni = ni;
     }
-    double t_cav = jm_now_ms() - tc0;
     double t4 = jm_now_ms();
+    double t_cav = t4 - tc0;
     /* wall time of the block pass, shared out by the threads' time per stage */
     double sum = tf + te + ta;
     if (sum > 0) {
