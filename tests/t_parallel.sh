@@ -38,10 +38,12 @@ check meshes stats
 # recipe 2: --sshlogin. ssh is replaced by a stand-in that runs the command
 # it is given here (dropping ssh's options and the host name, as a real
 # login would on a shared filesystem), so parallel's remote quoting and
-# --workdir are exercised for real.
+# --workdir are exercised for real. The stand-in sets SHELL as a login
+# would: CI runs without one, and parallel's worker runs jobs with $SHELL.
 cat >"$T/fakessh" <<EOS
 #!/bin/sh
 echo "\$*" >>"$T/ssh.log"
+export SHELL=/bin/sh                  # a login sets it; parallel's remote worker runs the job with \$SHELL
 while [ \$# -gt 0 ]; do case \$1 in -l|-p|-o|-i|-F) shift 2 ;; -*) shift ;; *) break ;; esac; done
 shift                                 # the host
 [ "\${1:-}" = -- ] && shift
