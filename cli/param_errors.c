@@ -107,6 +107,32 @@ void param_errors_too_large(char *msg, size_t len, const char *path, const jm_pa
                  path, parts->count, cube, hint);
 }
 
+void param_errors_domain(char *msg, size_t len, const char *path, const jm_params *p, const jm_particles *parts)
+{
+    size_t stride = parts->stride ? parts->stride : 3 * sizeof(float);
+    double far = 0.0;
+    for (size_t i = 0; i < parts->count; i++) {
+        float x[3];
+        memcpy(x, (const char *)parts->xyz + i * stride, sizeof x);
+        for (int a = 0; a < 3; a++)
+            if (fabs((double)x[a]) > far)
+                far = fabs((double)x[a]);
+    }
+    double cube = cube_in_force(p) * (double)p->radius;
+    if (far > JM_MAX_CUBES_FROM_ORIGIN * cube)
+        snprintf(msg, len,
+                 "%s: outside the numeric domain: a coordinate %g lies %.3g cube edges (--cube-size %g * -r %g) "
+                 "from the origin, over the %.0f that float precision allows: move the particles nearer the "
+                 "origin (subtract their centre) or use a larger --cube-size (see jetmesh(1), LIMITS)",
+                 path, far, far / cube, cube_in_force(p), (double)p->radius, JM_MAX_CUBES_FROM_ORIGIN);
+    else
+        snprintf(msg, len,
+                 "%s: outside the numeric domain: with -r %g and coordinates up to %g the mesh would reach "
+                 "beyond the float range (about 8.5e37 with a margin): use a larger unit of length "
+                 "(see jetmesh(1), LIMITS)",
+                 path, (double)p->radius, far);
+}
+
 void param_errors_warn_empty(long index, const char *path, size_t particles, const jm_params *p)
 {
     int sph = p->field == JM_FIELD_SPH;

@@ -1,12 +1,23 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
 #include "anisotropy.h"
+#include "units.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+
+/* A particle's coordinates in the library's unit (units.h): times s, an
+ * exact power of two. */
+static inline void load_units(float p[3], const char *src, float s)
+{
+    memcpy(p, src, 3 * sizeof(float));
+    p[0] *= s;
+    p[1] *= s;
+    p[2] *= s;
+}
 
 static int cmp_id(const void *a, const void *b, const uint32_t *ids)
 {
@@ -223,7 +234,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++) {
         float p[3];
-        memcpy(p, base + i * stride, sizeof p);
+        load_units(p, base + i * stride, c->unit_in);
         for (int a = 0; a < 3; a++) {
             if (!isfinite(p[a])) return JM_E_INVALID_PARTICLE;
             if (p[a] < lo[a]) lo[a] = p[a];
@@ -237,6 +248,10 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         g->hi[a] = hi[a];
         g->origin[a] = (int64_t)floorf(lo[a] * g->inv_cell) - 4;
         if ((int64_t)floorf(hi[a] * g->inv_cell) + 4 - g->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
+    }
+    if (n) {
+        jm_status dom = jm_unit_check(c, lo, hi, jm_unit_reach(c));
+        if (dom != JM_OK) return dom;
     }
 
     /* processing order: input order, or by id */
@@ -259,7 +274,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     size_t ncells = 0;
     for (size_t k = 0; k < n; k++) {
         float p[3];
-        memcpy(p, base + (size_t)order[k] * stride, sizeof p);
+        load_units(p, base + (size_t)order[k] * stride, c->unit_in);
         int64_t cx = (int64_t)floorf(p[0] * g->inv_cell) - g->origin[0];
         int64_t cy = (int64_t)floorf(p[1] * g->inv_cell) - g->origin[1];
         int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
@@ -308,7 +323,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     g->cell_start[ncells] = acc;
     for (size_t k = 0; k < n; k++) {
         uint32_t dst = count[4 * pcell[k]]++;
-        memcpy(GP(g, dst), base + (size_t)order[k] * stride, 3 * sizeof(float));
+        load_units(GP(g, dst), base + (size_t)order[k] * stride, c->unit_in);
         g->order[dst] = order[k];
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);

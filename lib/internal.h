@@ -75,6 +75,10 @@ typedef struct jm_config {
     float mv_reach2;   /* no piece exceeds threshold - mv_tau farther than this (squared) from its particle */
     int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
     int exact;         /* metasphere: settle every vertex on all the pieces near it */
+    /* the unit of length (units.h): every length above is in units of 2^unit;
+     * particle coordinates are multiplied by unit_in = 2^-unit as they are read */
+    int unit;
+    float unit_in;
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

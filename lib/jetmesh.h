@@ -158,13 +158,27 @@ typedef enum jm_status {
                                 small for the particles' spread) */
     JM_E_THREAD,           /**< worker threads could not be started */
     JM_E_INTERNAL,         /**< a bug: please report it */
-    JM_E_TOO_DENSE         /**< particles packed far closer than their radius:
+    JM_E_TOO_DENSE,        /**< particles packed far closer than their radius:
                                 the neighbour search would check more than
                                 JM_MAX_PAIR_CHECKS(n) pairs, or the metasphere
                                 would link a particle to over 1000 others on
                                 average (many duplicated particles, or a
                                 radius far too large for their spacing) */
+    JM_E_NUMERIC_DOMAIN    /**< outside the numeric domain (see "Numeric
+                                domain" above): a coordinate more than
+                                JM_MAX_CUBES_FROM_ORIGIN cube edges from the
+                                origin, or a mesh beyond the float range */
 } jm_status;
+
+/** Float precision: coordinates farther than this many cube edges
+ *  (params.cube_size * r) from the origin are refused with
+ *  JM_E_NUMERIC_DOMAIN. The lattice has a node at the origin, and beyond
+ *  2^16 cubes the spacing of floats exceeds 1/128 of a cube, so vertices
+ *  0.01 cube from a node (the closest they come) start to land on it: on
+ *  the jet at 2^17 cubes 5 % of the triangles have zero area. At the
+ *  default cube size 0.5 r: 32,768 r. Move such particles nearer the
+ *  origin (subtract their centre) before meshing. */
+#define JM_MAX_CUBES_FROM_ORIGIN 65536.0
 
 /** The bound on a frame's neighbour-search work: n particles are searched
  *  with at most max(2e9, 4000 n) pair checks, else JM_E_TOO_DENSE, decided

@@ -3,6 +3,7 @@
 #include "cavities.h"
 #include "post.h"
 #include "metavertex.h"
+#include "units.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -66,9 +67,16 @@ jm_status jm_context_set_params(jm_context *ctx, const jm_params *params)
 {
     if (!ctx || !params) return JM_E_INVALID_ARGUMENT;
     jm_config c;
-    jm_params filled;
-    jm_status st = jm_config_resolve(params, &c, &filled);
+    jm_params filled, units;
+    if (jm_params_check(params, NULL) != JM_OK) return JM_E_INVALID_ARGUMENT;
+    /* lengths in units of a power of two near r (units.h) */
+    const int unit = jm_unit_exponent(params->radius);
+    jm_unit_params(params, unit, &units);
+    jm_status st = jm_config_resolve(&units, &c, &filled);
     if (st != JM_OK) return st;
+    c.unit = unit;
+    c.unit_in = ldexpf(1.0f, -unit);
+    jm_unit_world_params(&filled, unit, params->radius);
     int threads = filled.threads ? filled.threads : cpu_count();
     if (threads > JM_MAX_THREADS) threads = JM_MAX_THREADS;
     filled.threads = threads;
@@ -643,6 +651,7 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
     double t0 = jm_now_ms();
     jm_status s = run(ctx, &ctx->cfg, particles, &st);
     if (s == JM_OK) {
+        jm_unit_restore(ctx->pos, ctx->nv, ctx->cfg.unit); /* back to world units */
         jm_mesh *m = out_mesh;
         m->positions = ctx->pos;
         m->normals = ctx->cfg.normals ? ctx->nrm : NULL;
@@ -702,6 +711,10 @@ jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size
                 lo[a] = fminf(lo[a], p[a]);
                 hi[a] = fmaxf(hi[a], p[a]);
             }
+        }
+        for (int a = 0; a < 3; a++) { /* in the library's unit (units.h) */
+            lo[a] *= c->unit_in;
+            hi[a] *= c->unit_in;
         }
         double box = 1;
         for (int a = 0; a < 3; a++) box *= floor((hi[a] - lo[a] + 2 * c->influence) / BW) + 2;
