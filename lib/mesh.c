@@ -716,6 +716,8 @@ jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size
             lo[a] *= c->unit_in;
             hi[a] *= c->unit_in;
         }
+        jm_status dom = jm_unit_check(c, lo, hi, jm_unit_reach(c)); /* as jm_grid_build */
+        if (dom != JM_OK) return dom;
         double box = 1;
         for (int a = 0; a < 3; a++) box *= floor((hi[a] - lo[a] + 2 * c->influence) / BW) + 2;
         if (box < blocks) blocks = box;
