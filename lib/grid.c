@@ -49,7 +49,7 @@ typedef struct {
     uint32_t *counts; /* metasphere: links per particle */
     float **soa;      /* per worker: neighbours of a cell as x[], y[], z[] */
     size_t *soa_cap;  /* per worker: floats per coordinate array */
-    int failed;
+    atomic_int failed; /* set by any worker */
     jm_mem *mem;      /* the context's accounting */
 } nb_job;
 
@@ -113,9 +113,8 @@ static void sph_cell(void *arg, size_t ci, int worker)
     for (int k = 0; k < nr; k++) m += r[k][1] - r[k][0];
     size_t cap = (m + 7) & ~(size_t)7;
     if (cap > job->soa_cap[worker]) {
-        float *b = realloc(job->soa[worker], 3 * cap * sizeof *b);
+        float *b = jm_realloc(job->mem, job->soa[worker], 3 * job->soa_cap[worker] * sizeof *b, 3 * cap * sizeof *b);
         if (!b) { job->failed = 1; return; }
-        jm_mem_add(job->mem, 3 * (cap - job->soa_cap[worker]) * sizeof *b); /* counted scratch */
         job->soa[worker] = b;
         job->soa_cap[worker] = cap;
     }
@@ -360,21 +359,18 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         g->weight = jm_alloc(mem, (n ? n : 1) * sizeof(float));
         if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         int nt = jm_pool_threads(pool);
-        job.soa = calloc((size_t)nt, sizeof *job.soa);
-        job.soa_cap = calloc((size_t)nt, sizeof *job.soa_cap);
+        job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);
+        job.soa_cap = jm_calloc(mem, (size_t)nt, sizeof *job.soa_cap);
         if (!job.soa || !job.soa_cap) {
-            free(job.soa);
-            free(job.soa_cap);
+            jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
+            jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
             st = JM_E_OUT_OF_MEMORY;
             goto fail;
         }
         jm_pool_run(pool, ncells, 16, sph_cell, &job);
-        for (int w = 0; w < nt; w++) {
-            jm_mem_sub(mem, 3 * job.soa_cap[w] * sizeof(float));
-            free(job.soa[w]);
-        }
-        free(job.soa);
-        free(job.soa_cap);
+        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 3 * job.soa_cap[w] * sizeof(float));
+        jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
+        jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     } else {
         g->nb_start = jm_alloc(mem, (n + 1) * sizeof(uint32_t));
