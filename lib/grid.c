@@ -233,9 +233,11 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++) {
         float p[3];
-        load_units(p, base + i * stride, c->unit_in);
+        memcpy(p, base + i * stride, sizeof p);
         for (int a = 0; a < 3; a++) {
             if (!isfinite(p[a])) return JM_E_INVALID_PARTICLE;
+            p[a] *= c->unit_in; /* in the library's unit (units.h) */
+            if (!isfinite(p[a])) return JM_E_NUMERIC_DOMAIN; /* |x| / 2^unit past FLT_MAX */
             if (p[a] < lo[a]) lo[a] = p[a];
             if (p[a] > hi[a]) hi[a] = p[a];
         }

@@ -180,6 +180,32 @@ static void test_decimal_radii(void **state)
     }
 }
 
+/* jm_interpolate_attributes (the kernel weights of vertices against
+ * particles) does not depend on the unit either: the same values, bit for
+ * bit, for the frame and its vertices scaled by 2^k. */
+static void test_attributes_scale(void **state)
+{
+    (void)state;
+    static const int ks[] = {0, 33, -83, 63, -120, 110};
+    const float r0 = 0.8f;
+    float base[3 * NPART], xyz[3 * NPART], vals[NPART], vbase[3 * 64], vpos[3 * 64], ref[64], got[64];
+    scene(base);
+    for (int i = 0; i < NPART; i++) vals[i] = (float)i * 0.37f - 2.0f;
+    for (int v = 0; v < 64; v++)
+        for (int a = 0; a < 3; a++) vbase[3 * v + a] = base[3 * (v % NPART) + a] + 0.3f * (float)((v * (a + 3)) % 7) - 0.9f;
+    for (size_t s = 0; s < sizeof ks / sizeof ks[0]; s++) {
+        const int k = ks[s];
+        for (int i = 0; i < 3 * NPART; i++) xyz[i] = ldexpf(base[i], k);
+        for (int i = 0; i < 3 * 64; i++) vpos[i] = ldexpf(vbase[i], k);
+        jm_params p = {0};
+        p.radius = ldexpf(r0, k);
+        jm_particles in = {xyz, NPART, 0, NULL};
+        jm_attribute at = {1, vals, s == 0 ? ref : got};
+        assert_int_equal(jm_interpolate_attributes(&p, &in, vpos, 64, &at, 1), JM_OK);
+        if (s > 0 && memcmp(ref, got, sizeof ref) != 0) fail_msg("attributes differ at 2^%d", k);
+    }
+}
+
 /* What remains is refused, never NaN or an empty mesh: coordinates over
  * JM_MAX_CUBES_FROM_ORIGIN cube edges from the origin, a mesh beyond the
  * float range, a subnormal radius. Just inside the bound meshes. */
@@ -231,6 +257,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_power_of_two_scales),
         cmocka_unit_test(test_decimal_radii),
+        cmocka_unit_test(test_attributes_scale),
         cmocka_unit_test(test_domain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
