@@ -206,6 +206,45 @@ static void test_attributes_scale(void **state)
     }
 }
 
+/* jm_field_eval too: the same value, and the gradient (per world unit)
+ * times 2^-k, for every field (the anisotropic kernels' matrices, 1 /
+ * length^2 in float, overflowed at r = 1e-25) */
+static void test_eval_scale(void **state)
+{
+    (void)state;
+    static const int ks[] = {0, 33, -83, 63, -120, 110};
+    float base[3 * NPART], xyz[3 * NPART];
+    scene(base);
+    const float probe[3] = {5.1f, 6.2f, 4.4f};
+    float v0[6] = {0}, g0[6][3];
+    for (size_t s = 0; s < sizeof ks / sizeof ks[0]; s++) {
+        const int k = ks[s];
+        for (int i = 0; i < 3 * NPART; i++) xyz[i] = ldexpf(base[i], k);
+        const float x[3] = {ldexpf(probe[0], k), ldexpf(probe[1], k), ldexpf(probe[2], k)};
+        jm_particles in = {xyz, NPART, 0, NULL};
+        for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+            jm_params p = {0};
+            p.radius = ldexpf(0.8f, k);
+            p.field = variants[v].field;
+            p.anisotropic = variants[v].anisotropic;
+            float val, g[3];
+            assert_int_equal(jm_field_eval(&p, &in, x, &val, g), JM_OK);
+            if (s == 0) {
+                v0[v] = val;
+                memcpy(g0[v], g, sizeof g);
+                assert_true(isfinite(val));
+                continue;
+            }
+            int bad = !(fabsf(val - v0[v]) <= 1e-6f * (1.0f + fabsf(v0[v])));
+            for (int a = 0; a < 3; a++) bad |= !(fabsf(ldexpf(g[a], k) - g0[v][a]) <= 1e-5f * (1.0f + fabsf(g0[v][a])));
+            if (bad)
+                fail_msg("%s at 2^%d: value %g, gradient %g %g %g (at 2^0: %g, %g %g %g)", variants[v].name, k,
+                         (double)val, (double)ldexpf(g[0], k), (double)ldexpf(g[1], k), (double)ldexpf(g[2], k),
+                         (double)v0[v], (double)g0[v][0], (double)g0[v][1], (double)g0[v][2]);
+        }
+    }
+}
+
 /* What remains is refused, never NaN or an empty mesh: coordinates over
  * JM_MAX_CUBES_FROM_ORIGIN cube edges from the origin, a mesh beyond the
  * float range, a subnormal radius. Just inside the bound meshes. */
@@ -258,6 +297,7 @@ int main(void)
         cmocka_unit_test(test_power_of_two_scales),
         cmocka_unit_test(test_decimal_radii),
         cmocka_unit_test(test_attributes_scale),
+        cmocka_unit_test(test_eval_scale),
         cmocka_unit_test(test_domain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
