@@ -586,6 +586,9 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
                      "bounded; see jetmesh(1), LIMITS)",
                      f->path, fr.count, (double)o->params.radius);
             status = EXIT_SOME_FAILED;
+        } else if (ms == JM_E_NUMERIC_DOMAIN) {
+            param_errors_domain(msg, sizeof msg, f->path, &o->params, &parts);
+            status = EXIT_SOME_FAILED;
         } else if (ms == JM_E_INVALID_PARTICLE) {
             snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
                      jm_status_message(ms));

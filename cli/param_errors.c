@@ -84,9 +84,54 @@ void param_errors_too_large(char *msg, size_t len, const char *path, const jm_pa
     size_t fit_bytes = 0;
     /* what must fit: the limit, and the machine whatever the limit */
     size_t target = max_memory && (!phys || max_memory < phys) ? max_memory : phys;
-    if (cube_that_fits(p, parts, target, &fit, &fit_bytes))
+    if (cube_that_fits(p, parts, target, &fit, &fit_bytes)) {
         snprintf(hint, sizeof hint, "; --cube-size %g would need about %s", fit,
                  platform_format_bytes(fit_bytes, b3, sizeof b3));
+    } else if (est && target && est > target) {
+        /* even the coarsest lattice does not fit: the memory is in the
+         * particles themselves (for the metasphere, its neck links, 24
+         * bytes each, to every particle within the link distance), which
+         * no cube size changes */
+        jm_params q = *p;
+        q.cube_size = 100.0f;
+        q.max_bytes = 0;
+        jm_context *ctx = NULL;
+        size_t coarse = 0;
+        int ok = jm_context_create(&q, &ctx) == JM_OK && jm_estimate_bytes(ctx, parts, &coarse) == JM_OK;
+        jm_context_free(ctx);
+        if (ok && coarse > target) {
+            /* the links are to blame when the same particles without them
+             * (the sph field's estimate) would fit */
+            int meta = p->field == JM_FIELD_DEFAULT || p->field == JM_FIELD_METASPHERE;
+            if (meta) {
+                jm_params sph = q;
+                sph.field = JM_FIELD_SPH;
+                sph.method = JM_METHOD_DEFAULT;
+                sph.threshold = 0.0f;
+                sph.exact_surface = 0;
+                size_t plain = 0;
+                meta = jm_context_create(&sph, &ctx) == JM_OK && jm_estimate_bytes(ctx, parts, &plain) == JM_OK &&
+                       plain <= target;
+                jm_context_free(ctx);
+            }
+            const char *over = max_memory && target == max_memory ? "the limit of" : "this machine's";
+            platform_format_bytes(est, b1, sizeof b1);
+            platform_format_bytes(target, b2, sizeof b2);
+            if (meta)
+                snprintf(msg, len,
+                         "%s: %zu particles need about %s of working memory, most of it the metasphere's links "
+                         "between particles within --link-distance times -r of each other, over %s %s at any "
+                         "--cube-size: -r %g is far too large for their spacing: use a smaller -r (or "
+                         "--link-distance), or --field sph",
+                         path, parts->count, b1, over, b2, (double)p->radius);
+            else
+                snprintf(msg, len,
+                         "%s: %zu particles need about %s of working memory, over %s %s at any --cube-size: "
+                         "raise --max-memory where the machine allows",
+                         path, parts->count, b1, over, b2);
+            return;
+        }
+    }
     if (est && phys && est > phys)
         snprintf(msg, len,
                  "%s: %zu particles need about %s of working memory at --cube-size %g, more than this "
@@ -105,6 +150,32 @@ void param_errors_too_large(char *msg, size_t len, const char *path, const jm_pa
                  "%s: %zu particles over a lattice far too fine for their spread (--cube-size %g): use "
                  "a larger --cube-size%s",
                  path, parts->count, cube, hint);
+}
+
+void param_errors_domain(char *msg, size_t len, const char *path, const jm_params *p, const jm_particles *parts)
+{
+    size_t stride = parts->stride ? parts->stride : 3 * sizeof(float);
+    double far = 0.0;
+    for (size_t i = 0; i < parts->count; i++) {
+        float x[3];
+        memcpy(x, (const char *)parts->xyz + i * stride, sizeof x);
+        for (int a = 0; a < 3; a++)
+            if (fabs((double)x[a]) > far)
+                far = fabs((double)x[a]);
+    }
+    double cube = cube_in_force(p) * (double)p->radius;
+    if (far > JM_MAX_CUBES_FROM_ORIGIN * cube)
+        snprintf(msg, len,
+                 "%s: outside the numeric domain: a coordinate %g lies %.3g cube edges (--cube-size %g * -r %g) "
+                 "from the origin, over the %.0f that float precision allows: move the particles nearer the "
+                 "origin (subtract their centre) or use a larger --cube-size (see jetmesh(1), LIMITS)",
+                 path, far, far / cube, cube_in_force(p), (double)p->radius, JM_MAX_CUBES_FROM_ORIGIN);
+    else
+        snprintf(msg, len,
+                 "%s: outside the numeric domain: with -r %g and coordinates up to %g the mesh would reach "
+                 "beyond the float range (about 8.5e37 with a margin): use a larger unit of length "
+                 "(see jetmesh(1), LIMITS)",
+                 path, (double)p->radius, far);
 }
 
 void param_errors_warn_empty(long index, const char *path, size_t particles, const jm_params *p)

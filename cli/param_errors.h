@@ -22,6 +22,12 @@ int param_errors_describe(const jm_params *p, char *msg, size_t len);
 void param_errors_too_large(char *msg, size_t len, const char *path, const jm_params *p,
                             const jm_particles *parts, size_t est, size_t max_memory);
 
+/** Explains a frame refused with JM_E_NUMERIC_DOMAIN: its farthest
+ *  coordinate from the origin in cube edges against JM_MAX_CUBES_FROM_ORIGIN
+ *  (move the particles nearer the origin, or a larger --cube-size), or a
+ *  mesh beyond the float range (a smaller unit of length). */
+void param_errors_domain(char *msg, size_t len, const char *path, const jm_params *p, const jm_particles *parts);
+
 /** Prints a warning on stderr for a frame whose particles gave no triangle:
  *  the threshold and cube size to look at. */
 void param_errors_warn_empty(long index, const char *path, size_t particles, const jm_params *p);

@@ -17,8 +17,33 @@ static void count_sub(jm_mem *a, size_t bytes)
     atomic_fetch_sub(&a->current, bytes);
 }
 
+/* Counts bytes unless that takes the total past the limit (checked where
+ * memory is taken, so the limit holds whatever the estimates said): then
+ * counts nothing, records the refusal and returns 0. */
+static int count_take(jm_mem *a, size_t bytes)
+{
+    if (!a->limit) {
+        count_add(a, bytes);
+        return 1;
+    }
+    size_t now = atomic_fetch_add(&a->current, bytes) + bytes;
+    if (now > a->limit || now < bytes) {
+        atomic_fetch_sub(&a->current, bytes);
+        atomic_store(&a->over, 1);
+        size_t r = atomic_load(&a->refused);
+        while (now > r && !atomic_compare_exchange_weak(&a->refused, &r, now)) {
+        }
+        return 0;
+    }
+    size_t peak = atomic_load(&a->peak);
+    while (now > peak && !atomic_compare_exchange_weak(&a->peak, &peak, now)) {
+    }
+    return 1;
+}
+
 void jm_mem_add(jm_mem *m, size_t bytes) { count_add(m, bytes); }
 void jm_mem_sub(jm_mem *m, size_t bytes) { count_sub(m, bytes); }
+int jm_mem_take(jm_mem *m, size_t bytes) { return count_take(m, bytes); }
 
 int jm_mul_size(size_t a, size_t b, size_t *out)
 {
@@ -30,8 +55,9 @@ int jm_mul_size(size_t a, size_t b, size_t *out)
 void *jm_alloc(jm_mem *m, size_t bytes)
 {
     if (bytes == 0) bytes = 1;
+    if (m && !count_take(m, bytes)) return NULL;
     void *p = malloc(bytes);
-    if (p && m) count_add(m, bytes);
+    if (!p && m) count_sub(m, bytes);
     return p;
 }
 
@@ -40,21 +66,24 @@ void *jm_calloc(jm_mem *m, size_t n, size_t size)
     size_t bytes;
     if (!jm_mul_size(n, size, &bytes)) return NULL;
     if (bytes == 0) bytes = 1;
+    if (m && !count_take(m, bytes)) return NULL;
     void *p = calloc(1, bytes);
-    if (p && m) count_add(m, bytes);
+    if (!p && m) count_sub(m, bytes);
     return p;
 }
 
 void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
 {
     if (new_bytes == 0) new_bytes = 1;
+    if (!p) old_bytes = 0;
+    size_t grow = new_bytes > old_bytes ? new_bytes - old_bytes : 0;
+    if (m && grow && !count_take(m, grow)) return NULL;
     void *q = realloc(p, new_bytes);
-    if (!q) return NULL;
-    if (m) {
-        if (!p) old_bytes = 0;
-        if (new_bytes > old_bytes) count_add(m, new_bytes - old_bytes);
-        else count_sub(m, old_bytes - new_bytes);
+    if (!q) {
+        if (m && grow) count_sub(m, grow);
+        return NULL;
     }
+    if (m && new_bytes < old_bytes) count_sub(m, old_bytes - new_bytes);
     return q;
 }
 

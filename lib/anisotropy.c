@@ -378,7 +378,7 @@ void jm_aniso_gather(const jm_grid *g, const jm_hood *hood, const float lo[3], c
                 continue;
             if (out->n + 8 > out->cap) {
                 size_t nc = out->cap ? out->cap * 2 : 1024;
-                float *b = realloc(out->buf, 10 * nc * sizeof *b);
+                float *b = jm_realloc(out->mem, out->buf, 10 * out->cap * sizeof *b, 10 * nc * sizeof *b);
                 if (!b) { out->n = SIZE_MAX; return; }
                 out->buf = b;
                 out->cap = nc;

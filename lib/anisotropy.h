@@ -57,6 +57,7 @@ void jm_aniso_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
 typedef struct jm_an_list {
     float *buf;
     size_t n, cap; /* kernels (n = SIZE_MAX: out of memory), capacity */
+    jm_mem *mem;   /* counts buf (NULL: uncounted) */
 } jm_an_list;
 void jm_aniso_gather(const jm_grid *g, const jm_hood *hood, const float lo[3], const float hi[3], jm_an_list *out);
 /* Outward unit normal at p: minus the field's gradient over the gathered

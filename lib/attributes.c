@@ -1,5 +1,6 @@
 /* attributes.c - jm_interpolate_attributes: per-particle values carried onto mesh vertices by normalised SPH weights. */
 #include "internal.h"
+#include "units.h"
 #include <string.h>
 
 /*
@@ -130,7 +131,11 @@ jm_status jm_interpolate_attributes(const jm_params *params, const jm_particles 
             memset(attributes[a].vertex_values, 0, vertex_count * (size_t)attributes[a].components * sizeof(float));
         return JM_OK;
     }
-    const float h = cfg.sph_h, support = 2.0f * cfg.sph_h, inv_h = 1.0f / cfg.sph_h;
+    /* distances in the library's unit (units.h): squared lengths neither
+     * overflow nor underflow at any radius, and the weights are the same
+     * bits as in world units wherever those do neither */
+    const float unit_in = ldexpf(1.0f, -jm_unit_exponent(params->radius));
+    const float h = cfg.sph_h, support = 2.0f * cfg.sph_h, inv_h = 1.0f / (cfg.sph_h * unit_in);
     memset(&b, 0, sizeof b);
     s = bins_build(&b, particles, support);
     if (s) {
@@ -154,7 +159,8 @@ jm_status jm_interpolate_attributes(const jm_params *params, const jm_particles 
                     for (uint32_t k = b.start[c]; k < b.start[c + 1]; k++) {
                         const uint32_t j = b.items[k];
                         const float *p = pos_of(particles, j);
-                        const float ex = x[0] - p[0], ey = x[1] - p[1], ez = x[2] - p[2];
+                        const float ex = (x[0] - p[0]) * unit_in, ey = (x[1] - p[1]) * unit_in,
+                                    ez = (x[2] - p[2]) * unit_in;
                         const float q = sqrtf(ex * ex + ey * ey + ez * ez) * inv_h;
                         if (q >= 2.0f) continue;
                         const double w = jm_cubic_w(q);

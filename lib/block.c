@@ -256,7 +256,7 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
     S = S < 1 ? 1 : (S > 4 ? 4 : S);
     const size_t nv = out->nv;
     if (nv > s->cap_order) {
-        uint32_t *o = realloc(s->order, nv * sizeof *o);
+        uint32_t *o = jm_realloc(s->hood.mem, s->order, s->cap_order * sizeof *o, nv * sizeof *o);
         if (!o) return 0;
         s->order = o;
         s->cap_order = nv;

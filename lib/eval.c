@@ -1,23 +1,34 @@
 /* eval.c - brute-force evaluation of the implicit function and its gradient at one point. */
 #include "internal.h"
 #include "anisotropy.h"
+#include "units.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static void load(const jm_particles *ps, size_t i, float p[3])
+/* particle i in the library's unit (units.h): times unit_in, a power of two */
+static void load(const jm_particles *ps, size_t i, float unit_in, float p[3])
 {
     size_t stride = ps->stride ? ps->stride : 3 * sizeof(float);
     memcpy(p, (const char *)ps->xyz + i * stride, 3 * sizeof(float));
+    for (int a = 0; a < 3; a++) p[a] *= unit_in;
 }
 
-jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const float x[3], float *out_value,
+jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const float x_world[3], float *out_value,
                         float out_gradient[3])
 {
-    if (!params || !ps || !x || !out_value || (ps->count && !ps->xyz)) return JM_E_INVALID_ARGUMENT;
+    if (!params || !ps || !x_world || !out_value || (ps->count && !ps->xyz)) return JM_E_INVALID_ARGUMENT;
     jm_config c;
-    jm_status st = jm_config_resolve(params, &c, NULL);
+    if (jm_params_check(params, NULL) != JM_OK) return JM_E_INVALID_ARGUMENT;
+    /* in the library's unit, as jm_mesh_particles: the anisotropic kernels'
+     * matrices (1 / length^2, in float) stay in range at any radius */
+    jm_params units;
+    const int unit = jm_unit_exponent(params->radius);
+    jm_unit_params(params, unit, &units);
+    jm_status st = jm_config_resolve(&units, &c, NULL);
     if (st != JM_OK) return st;
+    const float unit_in = ldexpf(1.0f, -unit);
+    const float x[3] = {x_world[0] * unit_in, x_world[1] * unit_in, x_world[2] * unit_in};
     size_t n = ps->count;
     double grad[3] = {0, 0, 0};
     double value;
@@ -31,13 +42,13 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
         const double inv = 1.0 / c.sph_h;
         for (size_t j = 0; j < n; j++) {
             float pj[3];
-            load(ps, j, pj);
+            load(ps, j, unit_in, pj);
             double sum = 0;
             jm_an_acc acc;
             memset(&acc, 0, sizeof acc);
             for (size_t k = 0; k < n; k++) {
                 float pk[3];
-                load(ps, k, pk);
+                load(ps, k, unit_in, pk);
                 double d = sqrt((double)(pk[0] - pj[0]) * (pk[0] - pj[0]) + (double)(pk[1] - pj[1]) * (pk[1] - pj[1]) +
                                 (double)(pk[2] - pj[2]) * (pk[2] - pj[2]));
                 if (d < c.support) sum += jm_cubic_w((float)(d * inv));
@@ -64,11 +75,11 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
         value = 0;
         for (size_t j = 0; j < n; j++) {
             float pj[3];
-            load(ps, j, pj);
+            load(ps, j, unit_in, pj);
             double sum = 0;
             for (size_t k = 0; k < n; k++) {
                 float pk[3];
-                load(ps, k, pk);
+                load(ps, k, unit_in, pk);
                 double d = sqrt((double)(pk[0] - pj[0]) * (pk[0] - pj[0]) + (double)(pk[1] - pj[1]) * (pk[1] - pj[1]) +
                                 (double)(pk[2] - pj[2]) * (pk[2] - pj[2]));
                 if (d < R) sum += jm_cubic_w((float)(d * inv));
@@ -85,7 +96,7 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
         value = -INFINITY;
         for (size_t i = 0; i < n; i++) {
             float ci[3];
-            load(ps, i, ci);
+            load(ps, i, unit_in, ci);
             double w[3] = {x[0] - ci[0], x[1] - ci[1], x[2] - ci[2]};
             double d = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
             double v = 1.0 - d / r;
@@ -96,7 +107,7 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
             for (size_t j = 0; j < n; j++) {
                 if (j == i) continue;
                 float cj[3];
-                load(ps, j, cj);
+                load(ps, j, unit_in, cj);
                 double u[3] = {cj[0] - ci[0], cj[1] - ci[1], cj[2] - ci[2]};
                 double D = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
                 if (!(D < c.link) || D == 0) continue;
@@ -116,6 +127,6 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
     }
     *out_value = (float)value;
     if (out_gradient)
-        for (int a = 0; a < 3; a++) out_gradient[a] = (float)grad[a];
+        for (int a = 0; a < 3; a++) out_gradient[a] = (float)(grad[a] * unit_in); /* per world unit */
     return JM_OK;
 }

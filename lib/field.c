@@ -18,7 +18,7 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
         total *= (size_t)hood->n[a];
     }
     if (total > hood->cap) {
-        uint32_t *r = realloc(hood->range, 2 * total * sizeof *r);
+        uint32_t *r = jm_realloc(hood->mem, hood->range, 2 * hood->cap * sizeof *r, 2 * total * sizeof *r);
         if (!r) return 0;
         hood->range = r;
         hood->cap = total;
@@ -284,7 +284,7 @@ void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
                 continue;
             if (out->n + 8 > out->cap) {
                 size_t nc = out->cap ? out->cap * 2 : 1024;
-                float *b = realloc(out->buf, 4 * nc * sizeof *b);
+                float *b = jm_realloc(out->mem, out->buf, 4 * out->cap * sizeof *b, 4 * nc * sizeof *b);
                 if (!b) { out->n = SIZE_MAX; return; }
                 out->buf = b;
                 out->cap = nc;

@@ -12,6 +12,7 @@ typedef struct jm_hood {
     uint32_t *range;    /* 2 per cell: first, end (sorted particle indices) */
     size_t cap;         /* entries allocated (cells) */
     size_t particles;   /* non-isolated particles in range */
+    jm_mem *mem;        /* counts range (NULL: uncounted) */
 } jm_hood;
 
 /* floor and ceil without libm calls (x within int range) */
@@ -66,6 +67,7 @@ const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood
 typedef struct jm_soa {
     float *buf;
     size_t n, cap;    /* particles (n = SIZE_MAX: out of memory), capacity */
+    jm_mem *mem;      /* counts buf (NULL: uncounted) */
 } jm_soa;
 
 /* Gathers the particles whose support reaches the box [lo, hi]. */

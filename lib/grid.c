@@ -1,12 +1,23 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
 #include "anisotropy.h"
+#include "units.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+
+/* A particle's coordinates in the library's unit (units.h): times s, an
+ * exact power of two. */
+static inline void load_units(float p[3], const char *src, float s)
+{
+    memcpy(p, src, 3 * sizeof(float));
+    p[0] *= s;
+    p[1] *= s;
+    p[2] *= s;
+}
 
 static int cmp_id(const void *a, const void *b, const uint32_t *ids)
 {
@@ -38,7 +49,7 @@ typedef struct {
     uint32_t *counts; /* metasphere: links per particle */
     float **soa;      /* per worker: neighbours of a cell as x[], y[], z[] */
     size_t *soa_cap;  /* per worker: floats per coordinate array */
-    int failed;
+    atomic_int failed; /* set by any worker */
     jm_mem *mem;      /* the context's accounting */
 } nb_job;
 
@@ -102,9 +113,8 @@ static void sph_cell(void *arg, size_t ci, int worker)
     for (int k = 0; k < nr; k++) m += r[k][1] - r[k][0];
     size_t cap = (m + 7) & ~(size_t)7;
     if (cap > job->soa_cap[worker]) {
-        float *b = realloc(job->soa[worker], 3 * cap * sizeof *b);
+        float *b = jm_realloc(job->mem, job->soa[worker], 3 * job->soa_cap[worker] * sizeof *b, 3 * cap * sizeof *b);
         if (!b) { job->failed = 1; return; }
-        jm_mem_add(job->mem, 3 * (cap - job->soa_cap[worker]) * sizeof *b); /* counted scratch */
         job->soa[worker] = b;
         job->soa_cap[worker] = cap;
     }
@@ -226,6 +236,8 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         memcpy(p, base + i * stride, sizeof p);
         for (int a = 0; a < 3; a++) {
             if (!isfinite(p[a])) return JM_E_INVALID_PARTICLE;
+            p[a] *= c->unit_in; /* in the library's unit (units.h) */
+            if (!isfinite(p[a])) return JM_E_NUMERIC_DOMAIN; /* |x| / 2^unit past FLT_MAX */
             if (p[a] < lo[a]) lo[a] = p[a];
             if (p[a] > hi[a]) hi[a] = p[a];
         }
@@ -237,6 +249,10 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         g->hi[a] = hi[a];
         g->origin[a] = (int64_t)floorf(lo[a] * g->inv_cell) - 4;
         if ((int64_t)floorf(hi[a] * g->inv_cell) + 4 - g->origin[a] >= JM_KEY_MAX) return JM_E_TOO_LARGE;
+    }
+    if (n) {
+        jm_status dom = jm_unit_check(c, lo, hi, jm_unit_reach(c));
+        if (dom != JM_OK) return dom;
     }
 
     /* processing order: input order, or by id */
@@ -259,7 +275,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     size_t ncells = 0;
     for (size_t k = 0; k < n; k++) {
         float p[3];
-        memcpy(p, base + (size_t)order[k] * stride, sizeof p);
+        load_units(p, base + (size_t)order[k] * stride, c->unit_in);
         int64_t cx = (int64_t)floorf(p[0] * g->inv_cell) - g->origin[0];
         int64_t cy = (int64_t)floorf(p[1] * g->inv_cell) - g->origin[1];
         int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
@@ -308,7 +324,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     g->cell_start[ncells] = acc;
     for (size_t k = 0; k < n; k++) {
         uint32_t dst = count[4 * pcell[k]]++;
-        memcpy(GP(g, dst), base + (size_t)order[k] * stride, 3 * sizeof(float));
+        load_units(GP(g, dst), base + (size_t)order[k] * stride, c->unit_in);
         g->order[dst] = order[k];
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);
@@ -345,21 +361,18 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         g->weight = jm_alloc(mem, (n ? n : 1) * sizeof(float));
         if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         int nt = jm_pool_threads(pool);
-        job.soa = calloc((size_t)nt, sizeof *job.soa);
-        job.soa_cap = calloc((size_t)nt, sizeof *job.soa_cap);
+        job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);
+        job.soa_cap = jm_calloc(mem, (size_t)nt, sizeof *job.soa_cap);
         if (!job.soa || !job.soa_cap) {
-            free(job.soa);
-            free(job.soa_cap);
+            jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
+            jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
             st = JM_E_OUT_OF_MEMORY;
             goto fail;
         }
         jm_pool_run(pool, ncells, 16, sph_cell, &job);
-        for (int w = 0; w < nt; w++) {
-            jm_mem_sub(mem, 3 * job.soa_cap[w] * sizeof(float));
-            free(job.soa[w]);
-        }
-        free(job.soa);
-        free(job.soa_cap);
+        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 3 * job.soa_cap[w] * sizeof(float));
+        jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
+        jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     } else {
         g->nb_start = jm_alloc(mem, (n + 1) * sizeof(uint32_t));

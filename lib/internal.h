@@ -11,9 +11,16 @@
 typedef struct jm_mem {
     _Atomic size_t current;
     _Atomic size_t peak;
+    size_t limit;          /* 0: none; else an allocation that would take
+                              current past it fails (NULL) and sets over */
+    _Atomic int over;      /* an allocation was refused for the limit */
+    _Atomic size_t refused; /* the largest total such an allocation needed */
 } jm_mem;
 void jm_mem_add(jm_mem *m, size_t bytes); /* count memory allocated elsewhere */
 void jm_mem_sub(jm_mem *m, size_t bytes);
+/* Counts bytes about to be allocated elsewhere, against the limit: 1, or 0
+ * (nothing counted, over set) when it would pass the limit. */
+int jm_mem_take(jm_mem *m, size_t bytes);
 
 void *jm_alloc(jm_mem *m, size_t bytes);            /* NULL on failure or overflow */
 void *jm_calloc(jm_mem *m, size_t n, size_t size);
@@ -75,6 +82,10 @@ typedef struct jm_config {
     float mv_reach2;   /* no piece exceeds threshold - mv_tau farther than this (squared) from its particle */
     int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
     int exact;         /* metasphere: settle every vertex on all the pieces near it */
+    /* the unit of length (units.h): every length above is in units of 2^unit;
+     * particle coordinates are multiplied by unit_in = 2^-unit as they are read */
+    int unit;
+    float unit_in;
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

@@ -132,6 +132,43 @@
  * away from one of its triangles (cosine under 0.02) is turned toward them
  * until it faces them all where possible: on dense lattices over 99.5 % of
  * triangle corners face their triangle.
+ *
+ * ----------------------------------------------------------------------
+ * Numeric domain. The mesh does not depend on the unit of length: the
+ * library computes in units of 2^k, the power of two with r / 2^k in
+ * [0.5, 1), scaling coordinates and the lengths among the parameters
+ * (radius, uv_scale) by 2^-k on the way in and vertex positions by 2^k on
+ * the way out. Both are exact in floating point, so a frame and its
+ * parameters scaled by any power of two give the same mesh scaled, bit for
+ * bit (normals, texture coordinates and triangles the same bits), and
+ * r = 1e-25 or r = 1e19 mesh as r = 1 does. What remains:
+ *   - the radius must be a normal float: FLT_MIN (1.18e-38) or more
+ *     (JM_E_INVALID_ARGUMENT from jm_params_check);
+ *   - every coordinate within JM_MAX_CUBES_FROM_ORIGIN (2^16) cube edges of
+ *     the origin, where floats are at most 1/128 of a cube apart
+ *     (JM_E_NUMERIC_DOMAIN; beyond 1e9 cube edges JM_E_TOO_LARGE, as before);
+ *   - the mesh within the float range: the largest |coordinate| plus the
+ *     mesh's reach past the particles (the influence radius plus four
+ *     blocks: about 36 r for the metasphere, 52 r for sph at the
+ *     defaults) below 2^126 = 8.5e37
+ *     (JM_E_NUMERIC_DOMAIN; only radii above about 1e36 come near it).
+ * jm_estimate_bytes refuses the same frames with the same status.
+ *
+ * Limits: at most JM_MAX_PARTICLES particles a frame and JM_MAX_VERTICES
+ * vertices a mesh (indices are 32 bits); the metasphere numbers its
+ * pieces n + links in 32 bits, so n plus the frame's links must stay below
+ * 2^32 - 1; beyond any of these JM_E_TOO_LARGE.
+ *
+ * Memory (params.max_bytes): every heap byte a context takes is counted
+ * (its scratch, the workers' growing buffers, the mesh it returns,
+ * meshoptimizer's scratch during simplification), and the limit is checked
+ * where memory is taken: an allocation that would pass it fails and the
+ * frame is refused with JM_E_TOO_LARGE (jm_stats.estimated_bytes then
+ * holds the total that allocation needed). The frame's estimate (with the
+ * metasphere's links counted exactly, once the neighbour search has counted
+ * them) is also checked before the large allocations, so most refusals
+ * come before the work.
+ * Memory not on the heap (the worker threads' stacks) is not counted.
  */
 
 #include <stddef.h>
@@ -152,19 +189,34 @@ typedef enum jm_status {
     JM_E_INVALID_ARGUMENT, /**< NULL pointer or a parameter out of range */
     JM_E_INVALID_PARTICLE, /**< a coordinate is NaN or infinite */
     JM_E_OUT_OF_MEMORY,    /**< an allocation failed */
-    JM_E_TOO_LARGE,        /**< estimate over params.max_bytes, a lattice
+    JM_E_TOO_LARGE,        /**< estimate or an allocation over
+                                params.max_bytes, a lattice
                                 coordinate beyond +-2^30 cubes, or over 3.4e10
                                 lattice nodes to sample (a cube size absurdly
                                 small for the particles' spread) */
     JM_E_THREAD,           /**< worker threads could not be started */
     JM_E_INTERNAL,         /**< a bug: please report it */
-    JM_E_TOO_DENSE         /**< particles packed far closer than their radius:
+    JM_E_TOO_DENSE,        /**< particles packed far closer than their radius:
                                 the neighbour search would check more than
                                 JM_MAX_PAIR_CHECKS(n) pairs, or the metasphere
                                 would link a particle to over 1000 others on
                                 average (many duplicated particles, or a
                                 radius far too large for their spacing) */
+    JM_E_NUMERIC_DOMAIN    /**< outside the numeric domain (see "Numeric
+                                domain" above): a coordinate more than
+                                JM_MAX_CUBES_FROM_ORIGIN cube edges from the
+                                origin, or a mesh beyond the float range */
 } jm_status;
+
+/** Float precision: coordinates farther than this many cube edges
+ *  (params.cube_size * r) from the origin are refused with
+ *  JM_E_NUMERIC_DOMAIN. The lattice has a node at the origin, and beyond
+ *  2^16 cubes the spacing of floats exceeds 1/128 of a cube, so vertices
+ *  0.01 cube from a node (the closest they come) start to land on it: on
+ *  the jet at 2^17 cubes 5 % of the triangles have zero area. At the
+ *  default cube size 0.5 r: 32,768 r. Move such particles nearer the
+ *  origin (subtract their centre) before meshing. */
+#define JM_MAX_CUBES_FROM_ORIGIN 65536.0
 
 /** The bound on a frame's neighbour-search work: n particles are searched
  *  with at most max(2e9, 4000 n) pair checks, else JM_E_TOO_DENSE, decided
@@ -207,6 +259,10 @@ typedef enum jm_uv_mode {
     JM_UV_NONE         /**< no texture coordinates (mesh.uvs = NULL) */
 } jm_uv_mode;
 
+/** The most particles a frame may have, and vertices a mesh (2^31 - 1). */
+#define JM_MAX_PARTICLES 2147483647u
+#define JM_MAX_VERTICES 2147483647u
+
 /** The most worker threads a context starts (jm_params.threads above it is capped). */
 #define JM_MAX_THREADS 256
 
@@ -235,7 +291,9 @@ typedef struct jm_params {
                                  estimated chord sag of its triangles (see
                                  Extraction), so volumes come out unbiased */
     size_t max_bytes;       /**< refuse frames whose estimated working memory
-                                 exceeds this (JM_E_TOO_LARGE); 0 = no limit */
+                                 exceeds this, or that would take more (the
+                                 limit is checked at every allocation; see
+                                 "Memory" above): JM_E_TOO_LARGE; 0 = no limit */
     int keep_cavities;      /**< 1: keep every cavity. Default: a closed
                                  inward-facing shell (a cavity inside the
                                  solid) smaller than one particle's ball,
@@ -343,9 +401,12 @@ typedef struct jm_stats {
     size_t cells;         /**< cubes visited */
     size_t vertices;
     size_t triangles;
-    size_t estimated_bytes; /**< the pre-allocation estimate of working memory */
+    size_t estimated_bytes; /**< the pre-allocation estimate of working memory
+                               (after a refusal at an allocation over
+                               max_bytes: the total it needed, if more) */
     size_t peak_bytes;    /**< peak of the context's own heap during the call
-                               (mesh included) */
+                               (mesh, scratch and meshoptimizer's scratch
+                               included) */
     int threads;          /**< worker threads used */
     size_t cavities_removed; /**< sub-particle cavities removed (see
                                   jm_params.keep_cavities) */
@@ -379,6 +440,11 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles,
 /**
  * Estimates the working memory (bytes) jm_mesh_particles() would need for
  * these particles, without meshing. Cheap: one pass over the particles.
+ * The metasphere's links (24 bytes each) are estimated from the particles'
+ * mean density over their bounds: about right for bulk fluid, up to twice
+ * too many for jets and sheets. Refuses what jm_mesh_particles refuses
+ * before meshing: NaN and infinite coordinates, a short stride, the numeric
+ * domain.
  */
 jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles,
                             size_t *out_bytes);

@@ -15,6 +15,7 @@ const char *jm_status_message(jm_status status)
     case JM_E_THREAD: return "worker threads could not be started";
     case JM_E_INTERNAL: return "internal error (a bug in jetmesh)";
     case JM_E_TOO_DENSE: return "particles packed far closer than their radius (duplicated particles, or a radius far too large)";
+    case JM_E_NUMERIC_DOMAIN: return "outside the numeric domain: a coordinate over 2^16 cube edges from the origin (float precision: move the particles nearer the origin), or a mesh beyond the float range";
     }
     return "unknown status";
 }
@@ -111,6 +112,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->smooth_normal_iters = p.smooth_normal_iterations;
     c->simplify_error = p.simplify_error * r;
     c->exact = p.exact_surface != 0;
+    c->unit_in = 1.0f; /* mesh.c sets the unit (units.h) */
     if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);
     if (f) *f = p;
     return JM_OK;

@@ -1,5 +1,6 @@
 /* params_check.c - validates jm_params and names the member out of range with the values it accepts. */
 #include "internal.h"
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <string.h>
@@ -34,6 +35,8 @@ jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
         return refuse(out, NULL, 0, 0, 0, 0, 0, "a jm_params (NULL given)");
     if (!isfinite(p->radius) || p->radius <= 0.0f)
         return refuse(out, "radius", p->radius, 0, 1, HUGE_VAL, 0, "a finite number above 0");
+    if (p->radius < FLT_MIN) /* the numeric domain (jetmesh.h): a normal float */
+        return refuse(out, "radius", p->radius, FLT_MIN, 0, HUGE_VAL, 0, "a normal float: 1.18e-38 or more");
     if (!in_range_or_zero(p->cube_size, 1e-3f, 100.0f))
         return refuse(out, "cube_size", p->cube_size, 1e-3f, 0, 100.0f, 0,
                       "0.001 to 100 (times radius; 0 = the default 0.5)");

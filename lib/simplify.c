@@ -1,6 +1,9 @@
 /* simplify.c - simplification to a geometric error with meshoptimizer (the only file that includes it), checked closed and manifold. */
 #include "post.h"
 #include <meshoptimizer.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #ifndef JM_SIMPLIFY_AIM
@@ -18,8 +21,55 @@
  * locked (three rounds, the kept region growing); failing that, every
  * connected piece is simplified on its own, retried at half the error twice,
  * and kept as it was after that.
- * meshoptimizer's own scratch memory is not counted in jm_stats.peak_bytes.
+ * meshoptimizer's own scratch memory is counted too (below).
  */
+
+/*
+ * meshoptimizer's scratch, counted in the context's jm_mem. Its allocator
+ * (meshopt_setAllocator) is global to the process, so it is set once
+ * (pthread_once) to two functions that count on the jm_mem of the
+ * simplification running on the calling thread: a thread-local pointer, set
+ * for the length of jm_simplify_mesh and NULL elsewhere (uncounted), so
+ * contexts simplifying on several threads at once each count their own.
+ * meshoptimizer frees what it allocates before its functions return; each
+ * block still carries its jm_mem (or NULL) and size in a header, since the
+ * deallocation callback gets only the pointer. Over the limit a block is
+ * still given, uncounted (meshoptimizer cannot take a failure), and the
+ * refusal recorded (jm_mem.over): the simplification then ends with
+ * JM_E_TOO_LARGE when meshoptimizer returns. An application's own
+ * meshoptimizer allocator, if it set one, is replaced by plain malloc at
+ * jetmesh's first simplification.
+ */
+static _Thread_local jm_mem *meshopt_mem;
+
+typedef union meshopt_header {
+    max_align_t align;
+    struct {
+        jm_mem *mem; /* counted in, or NULL */
+        size_t bytes;
+    } h;
+} meshopt_header;
+
+static void *meshopt_counted_alloc(size_t bytes)
+{
+    meshopt_header *b = malloc(sizeof *b + bytes);
+    if (!b) return NULL;
+    jm_mem *m = meshopt_mem;
+    b->h.mem = m && jm_mem_take(m, bytes) ? m : NULL;
+    b->h.bytes = bytes;
+    return b + 1;
+}
+
+static void meshopt_counted_free(void *p)
+{
+    if (!p) return;
+    meshopt_header *b = (meshopt_header *)p - 1;
+    if (b->h.mem) jm_mem_sub(b->h.mem, b->h.bytes);
+    free(b);
+}
+
+static pthread_once_t meshopt_once = PTHREAD_ONCE_INIT;
+static void meshopt_install(void) { meshopt_setAllocator(meshopt_counted_alloc, meshopt_counted_free); }
 
 static int cmp_u64(const void *a, const void *b)
 {
@@ -257,6 +307,8 @@ jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
     /* meshoptimizer's error is measured against quadrics (planes), which
      * underestimate the distance on curved fluid surfaces: aim at a part */
     float err = c->simplify_error * JM_SIMPLIFY_AIM;
+    pthread_once(&meshopt_once, meshopt_install);
+    meshopt_mem = mem; /* meshoptimizer's scratch counted here (see above) */
     uint32_t *dst = jm_alloc(mem, ni * sizeof *dst);
     uint32_t *remap = jm_alloc(mem, nv * sizeof *remap);
     uint8_t *bad = NULL;
@@ -292,8 +344,11 @@ jm_status jm_simplify_mesh(jm_mem *mem, const jm_config *c, jm_post_mesh *m)
         m->ni = n;
     }
 out:
+    meshopt_mem = NULL;
     jm_free(mem, dst, ni * sizeof *dst);
     jm_free(mem, remap, nv * sizeof *remap);
     jm_free(mem, bad, nv);
+    /* a block meshoptimizer took past the limit (given uncounted) */
+    if (mem && mem->limit && atomic_load(&mem->over)) return JM_E_TOO_LARGE;
     return st;
 }

@@ -1,7 +1,7 @@
 #!/bin/sh
-# fuzz.sh - builds and runs one libFuzzer target per particle reader, keeping a small minimized corpus and any crashes.
+# fuzz.sh - builds and runs one libFuzzer target per particle reader, and one that meshes CSV input, keeping a small minimized corpus and any crashes.
 #
-# Usage: scripts/fuzz.sh [TARGET...]        (default: csv xyz vtk vtu bgeo ply auto)
+# Usage: scripts/fuzz.sh [TARGET...]        (default: csv xyz vtk vtu bgeo ply auto mesh)
 # Environment:
 #   FUZZ_SECONDS   seconds per target (default 60)
 #   FUZZ_JOBS      targets run at the same time (default 1)
@@ -22,7 +22,7 @@ max_seed=${FUZZ_MAX_SEED:-65536}
 max_len=${FUZZ_MAX_LEN:-65536}
 cc=${FUZZ_CC:-clang}
 out=$root/build/fuzz
-targets=${*:-csv xyz vtk vtu bgeo ply auto}
+targets=${*:-csv xyz vtk vtu bgeo ply auto mesh}
 corpus_max_files=50
 corpus_max_bytes=2097152
 
@@ -33,10 +33,13 @@ srcs="$root/formats/reader.c $root/formats/readbuf.c $(ls "$root"/formats/read_*
 
 build() { # target
   echo "fuzz: building fuzz_$1"
+  # the meshing target also builds the library (and its one dependency)
+  lib=""
+  [ "$1" = mesh ] && lib="$(ls "$root"/lib/*.c) -lmeshoptimizer -lstdc++ -pthread"
   # shellcheck disable=SC2086
   "$cc" -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
     -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra \
-    -I"$root/formats" "$root/tests/fuzz/fuzz_$1.c" $srcs -lz -lm -o "$out/fuzz_$1"
+    -I"$root/formats" "$root/tests/fuzz/fuzz_$1.c" $srcs $lib -lz -lm -o "$out/fuzz_$1"
 }
 
 # Copies the seeds for a target into $2: matching shared files and samples
@@ -44,7 +47,7 @@ build() { # target
 seed() { # target dir
   t=$1; d=$2
   case $t in
-    csv) pat='*.csv *.txt' ;; xyz) pat='*.xyz' ;; vtk) pat='*.vtk' ;; vtu) pat='*.vtu' ;;
+    csv|mesh) pat='*.csv *.txt' ;; xyz) pat='*.xyz' ;; vtk) pat='*.vtk' ;; vtu) pat='*.vtu' ;;
     bgeo) pat='*.bgeo *.bgeo.gz' ;; ply) pat='*.ply' ;; *) pat='*.csv *.xyz *.vtk *.vtu *.bgeo *.ply *.gz' ;;
   esac
   for base in "$shared/data" "$root/samples"; do
@@ -56,7 +59,7 @@ seed() { # target dir
     cp "$f" "$d/seed-$(basename "$f")"
   done
   case $t in
-    csv|auto)
+    csv|auto|mesh)
       printf 'x,y,z,id\n0,0,0,1\n1.5,2.5,-3e-2,2\n' >"$d/gen-header.csv"
       printf '# comment\r\n1;2;3\r\n4;5;6\r\n' >"$d/gen-semicolon.csv"
       printf 'pos_x\tpos_y\tpos_z\n1\t2\t3\nnan\t1\t1\n' >"$d/gen-tab.csv"

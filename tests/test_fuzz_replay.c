@@ -1,4 +1,4 @@
-/* test_fuzz_replay.c - replays the saved fuzz corpus and crash inputs (tests/fuzz/{corpus,crashes}/<fmt>/) through the readers. */
+/* test_fuzz_replay.c - replays the saved fuzz corpus and crash inputs (tests/fuzz/{corpus,crashes}/<fmt>/) through the readers, and mesh/ through the meshing target. */
 #include <stdarg.h>
 #include <stddef.h>
 #include <setjmp.h>
@@ -14,6 +14,11 @@
 
 #include "../formats/reader.h"
 #include "util/files.h"
+
+/* the meshing target's body, its broken invariants failing the test */
+static const char *mesh_input; /* the file being replayed, for messages */
+#define FUZZ_MESH_FAIL(what) fail_msg("%s: %s", mesh_input, what)
+#include "fuzz/fuzz_mesh_common.h"
 
 static size_t replayed;
 
@@ -101,7 +106,11 @@ static size_t replay_dir(const char *kind)
             if (stat(path, &sb) != 0 || !S_ISREG(sb.st_mode)) continue;
             buf = test_read_file(path, &n);
             assert_non_null(buf);
-            if (f == JMF_IN_AUTO) {
+            if (strcmp(e->d_name, "mesh") == 0) {
+                /* as fuzz_mesh: CSV meshed at bounded parameters */
+                mesh_input = path;
+                fuzz_mesh(buf, n);
+            } else if (f == JMF_IN_AUTO) {
                 /* as fuzz_auto: by magic, then by two extensions */
                 replay_one(path, buf, n, f, "frame.unknown");
                 replay_one(path, buf, n, f, "frame.csv.gz");

@@ -521,7 +521,8 @@ static void test_api_errors(void **s)
         fine.cube_size = 0.001f;
         fine.field = JM_FIELD_SPH;
         jm_context *fc = make(fine);
-        float two[6] = {0, 0, 0, 100, 0, 0};
+        /* (about the origin: 2^16 cubes from it is the numeric domain) */
+        float two[6] = {-50, 0, 0, 50, 0, 0};
         jm_particles pt = {two, 2, 0, NULL};
         assert_int_equal(jm_mesh_particles(fc, &pt, &m, &st), JM_E_TOO_LARGE);
         assert_true(st.estimated_bytes > ((size_t)1 << 40));
