@@ -50,6 +50,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->soa.buf);
     free(s->order);
     free(s->an_list.buf);
+    jm_probe_free(&s->probe);
     memset(s, 0, sizeof *s);
 }
 
@@ -109,12 +110,11 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
 }
 
 /* Metasphere at p, from the pieces that won at the edge's two nodes (the
- * field is their maximum near the edge, but see jm_meta_settle): returns
+ * field is their maximum near the edge, but see jm_meta_probe): returns
  * the value; n gets the winning piece's outward normal, *glen its gradient
  * length and *win the piece; blend (may be NULL) the normal to output: the
- * winner's, or along a crease of the union (both pieces within the blend
- * width of each other) the blend of both, weighted smoothly by how close
- * each comes to the maximum. */
+ * winner's, or along a crease of the union (the other piece within
+ * c->mv_tau) both blended by jm_meta_blend. */
 static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
                        float *glen, float blend[3], uint32_t *win)
 {
@@ -131,17 +131,13 @@ static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand
         /* the other piece out of reach (or none): the winner's normal */
         memcpy(blend, n, 3 * sizeof *n);
     } else if (blend) {
-        const float tau = c->mv_tau;
-        float w0 = v[0] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[0]) / tau;
-        float w1 = v[1] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[1]) / tau;
-        w0 = w0 > 0.0f ? w0 * w0 * (3.0f - 2.0f * w0) : 0.0f;
-        w1 = w1 > 0.0f ? w1 * w1 * (3.0f - 2.0f * w1) : 0.0f;
+        const float wt = jm_meta_weight(c, v[w] - v[1 - w], nk[w], nk[1 - w]);
         float o[3], len = 0.0f;
         for (int a = 0; a < 3; a++) {
-            o[a] = (w0 > 0.0f ? w0 * nk[0][a] : 0.0f) + (w1 > 0.0f ? w1 * nk[1][a] : 0.0f);
+            o[a] = nk[w][a] + wt * nk[1 - w][a];
             len += o[a] * o[a];
         }
-        if (len > 0.0f) {
+        if (wt > 0.0f && len > 0.0f) {
             len = 1.0f / sqrtf(len);
             for (int a = 0; a < 3; a++) blend[a] = o[a] * len;
         } else {
@@ -344,7 +340,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     out->t_field = t1 - t0;
     if (inside == 0 || inside == nn) return;
 
-    const int meta = c->field == JM_FIELD_METASPHERE;
+    const int meta = c->field == JM_FIELD_METASPHERE, np = jm_probe_parts(B);
     const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
     const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
     jm_mem *mem = env->mem;
@@ -412,10 +408,11 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
                                 tt = refine_root(g, c, cv, a, ab, fa - thr, tt, mn, &have_mn, &win);
-                                if (c->exact) {
-                                    /* every piece near the point, not just the two candidates */
-                                    tt = jm_meta_settle(g, c, &s->hood, cv, win, a, ab, fa - thr, tt, want_nrm ? mn : NULL);
-                                    have_mn = want_nrm;
+                                /* for jm_meta_probe: the edge and the root */
+                                const float pt[3] = {a[0] + tt * ab[0], a[1] + tt * ab[1], a[2] + tt * ab[2]};
+                                if (!jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, pt)) {
+                                    out->failed = 1;
+                                    goto done;
                                 }
                             }
                             float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
@@ -429,7 +426,6 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 /* reuse the normal of the refinement's last
                                  * evaluation when it was at this very point */
                                 if (have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
-                                else if (c->exact) jm_meta_normal(g, c, &s->hood, win, p, nr);
                                 else cand_normal(g, c, cv, p, nr);
                             }
                             ref = (uint32_t)out->nv++;
@@ -473,6 +469,11 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
+    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos,
+                               want_nrm ? out->nrm : NULL, out->cand, out->nv)) {
+        out->failed = 1;
+        return;
+    }
     sort_pairs(out->bmap, out->nb);
     if (!meta && want_nrm && out->nv && !sph_normals(g, c, s, lo, hi, out)) { out->failed = 1; return; }
     if (c->uv_mode != JM_UV_NONE)
