@@ -109,42 +109,55 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     return 1;
 }
 
+/* The edge's two pieces at a point: values (-inf where absent), unit
+ * normals, the winner's index. */
+typedef struct cand_pt {
+    float v[2], nk[2][3];
+    int w;
+} cand_pt;
+
 /* Metasphere at p, from the pieces that won at the edge's two nodes (the
  * field is their maximum near the edge, but see jm_meta_probe): returns
  * the value; n gets the winning piece's outward normal, *glen its gradient
- * length and *win the piece; blend (may be NULL) the normal to output: the
- * winner's, or along a crease of the union (the other piece within
- * c->mv_tau) both blended by jm_meta_blend. */
+ * length and *win the piece, *cp both pieces there. */
 static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
-                       float *glen, float blend[3], uint32_t *win)
+                       float *glen, cand_pt *cp, uint32_t *win)
 {
-    float nk[2][3], v[2] = {-INFINITY, -INFINITY}, gk[2] = {0, 0};
+    float gk[2] = {0, 0};
+    cp->v[0] = cp->v[1] = -INFINITY;
     for (int k = 0; k < 2; k++)
         if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0]))
-            v[k] = jm_prim_eval(g, c, cand[k], p, nk[k], &gk[k]);
-    int w = v[1] > v[0];
-    if (v[w] == -INFINITY) return -INFINITY;
-    memcpy(n, nk[w], sizeof nk[w]);
+            cp->v[k] = jm_prim_eval(g, c, cand[k], p, cp->nk[k], &gk[k]);
+    const int w = cp->v[1] > cp->v[0];
+    cp->w = w;
+    if (cp->v[w] == -INFINITY) return -INFINITY;
+    memcpy(n, cp->nk[w], sizeof cp->nk[w]);
     *glen = gk[w];
     *win = cand[w];
-    if (blend && !(v[1 - w] > v[w] - c->mv_tau)) {
-        /* the other piece out of reach (or none): the winner's normal */
-        memcpy(blend, n, 3 * sizeof *n);
-    } else if (blend) {
-        const float wt = jm_meta_weight(c, v[w] - v[1 - w], nk[w], nk[1 - w]);
-        float o[3], len = 0.0f;
-        for (int a = 0; a < 3; a++) {
-            o[a] = nk[w][a] + wt * nk[1 - w][a];
-            len += o[a] * o[a];
-        }
-        if (wt > 0.0f && len > 0.0f) {
-            len = 1.0f / sqrtf(len);
-            for (int a = 0; a < 3; a++) blend[a] = o[a] * len;
-        } else {
-            memcpy(blend, n, 3 * sizeof *n);
-        }
+    return cp->v[w];
+}
+
+/* The normal to output from cand_eval's pieces: the winner's, or along a
+ * crease of the union both, blended by jm_meta_weight. */
+static void cand_blend(const jm_config *c, const cand_pt *cp, float out[3])
+{
+    const int w = cp->w;
+    const float wt = cp->v[1 - w] > cp->v[w] - c->mv_tau ? jm_meta_weight(c, cp->v[w] - cp->v[1 - w], cp->nk[w], cp->nk[1 - w]) : 0.0f;
+    if (!(wt > 0.0f)) {
+        memcpy(out, cp->nk[w], 3 * sizeof *out);
+        return;
     }
-    return v[w];
+    float o[3], len = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        o[a] = cp->nk[w][a] + wt * cp->nk[1 - w][a];
+        len += o[a] * o[a];
+    }
+    if (len > 0.0f) {
+        len = 1.0f / sqrtf(len);
+        for (int a = 0; a < 3; a++) out[a] = o[a] * len;
+    } else {
+        memcpy(out, cp->nk[w], 3 * sizeof *out);
+    }
 }
 
 /* The metasphere's crossing on edge a + t ab: the linear estimate t is
@@ -181,8 +194,10 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
     const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
     for (int it = 0; it < 4; it++) {
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
-        float f = cand_eval(g, c, cand, p, n, &glen, nrm, win) - c->threshold;
+        cand_pt cp;
+        float f = cand_eval(g, c, cand, p, n, &glen, &cp, win) - c->threshold;
         if (fabsf(f) < tol) {
+            cand_blend(c, &cp, nrm);
             *have_nrm = 1;
             return t;
         }
@@ -196,6 +211,7 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
              * left is second order in the step, about 1e-3 of the edge
              * here), with the normal of the point just evaluated beside it
              * (about 1.5 degrees mean difference on the jet) */
+            cand_blend(c, &cp, nrm);
             *have_nrm = 1;
             return tn;
         }
@@ -209,7 +225,9 @@ static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t can
 {
     float n[3], glen;
     uint32_t win;
-    cand_eval(g, c, cand, p, n, &glen, nrm, &win);
+    cand_pt cp;
+    if (cand_eval(g, c, cand, p, n, &glen, &cp, &win) == -INFINITY) return;
+    cand_blend(c, &cp, nrm);
 }
 
 /* Sorts (slot, index) pairs by slot. They are made in scan order, so

@@ -98,14 +98,14 @@ typedef struct rows {
  * last shifted back to end at the part's end, or at the array's: a run
  * reaching into another part's vertices gives them their true values,
  * which changes nothing). */
-#define FOR_RUNS(ps, np, lo, hi, n, k, ...)                                                                \
+#define FOR_RUNS(W, ps, np, lo, hi, n, k, ...)                                                             \
     for (int pk_ = lo[2]; pk_ <= hi[2]; pk_++)                                                           \
         for (int pj_ = lo[1]; pj_ <= hi[1]; pj_++)                                                       \
             for (int pi_ = lo[0]; pi_ <= hi[0]; pi_++) {                                                 \
                 const size_t part_ = ((size_t)pk_ * (np) + pj_) * (np) + pi_;                            \
                 const size_t end_ = ps[part_ + 1];                                                       \
-                for (size_t s_ = ps[part_]; s_ < end_; s_ += 4) {                                        \
-                    const size_t k = s_ + 4 <= (n) ? s_ : (n) - 4;                                       \
+                for (size_t s_ = ps[part_]; s_ < end_; s_ += (W)) {                                      \
+                    const size_t k = s_ + (W) <= (n) ? s_ : (n) - (W);                                   \
                     __VA_ARGS__                                                                          \
                 }                                                                                        \
             }
@@ -130,27 +130,28 @@ static void splat_ball(const rows *R, const uint32_t *ps, int np, const int lo[3
     const float *restrict X = R->x, *restrict Y = R->y, *restrict Z = R->z;
     float *restrict V = R->v;
     const vf qx = V1(q[0]), qy = V1(q[1]), qz = V1(q[2]), ir = V1(inv_r), one = V1(1.0f);
-    FOR_RUNS(ps, np, lo, hi, R->n, k, {
+    FOR_RUNS(4, ps, np, lo, hi, R->n, k, {
         vf dx = VSUB(VLD(X + k), qx), dy = VSUB(VLD(Y + k), qy), dz = VSUB(VLD(Z + k), qz);
         vf d2 = VADD(VADD(VMUL(dx, dx), VMUL(dy, dy)), VMUL(dz, dz));
         vf v = VSUB(one, VMUL(_mm_sqrt_ps(d2), ir));
         _mm_storeu_ps(V + k, _mm_max_ps(v, VLD(V + k)));
     })
 }
-static void splat_neck(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
-                       const float *u, float half, float rr2, float inv_r)
+static void splat_link(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
+                       const float *u, float D, float rr2, float inv_r)
 {
     const float *restrict X = R->x, *restrict Y = R->y, *restrict Z = R->z;
     float *restrict V = R->v;
     const vf qx = V1(q[0]), qy = V1(q[1]), qz = V1(q[2]), ux = V1(u[0]), uy = V1(u[1]), uz = V1(u[2]);
-    const vf hf = V1(half), r2 = V1(rr2), ir = V1(inv_r), zero = _mm_setzero_ps();
-    FOR_RUNS(ps, np, lo, hi, R->n, k, {
+    const vf dd = V1(D), r2 = V1(rr2), ir = V1(inv_r), zero = _mm_setzero_ps();
+    FOR_RUNS(4, ps, np, lo, hi, R->n, k, {
         vf wx = VSUB(VLD(X + k), qx), wy = VSUB(VLD(Y + k), qy), wz = VSUB(VLD(Z + k), qz);
         vf s = VADD(VADD(VMUL(wx, ux), VMUL(wy, uy)), VMUL(wz, uz));
         vf q2 = VSUB(VADD(VADD(VMUL(wx, wx), VMUL(wy, wy)), VMUL(wz, wz)), VMUL(s, s));
-        vf ok = _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(s, zero), _mm_cmple_ps(s, hf)), _mm_cmplt_ps(q2, r2));
+        vf ok = _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(s, zero), _mm_cmple_ps(s, dd)), _mm_cmplt_ps(q2, r2));
         if (!_mm_movemask_ps(ok)) continue;
-        vf t = VMUL(s, ir), t2 = VMUL(t, t);
+        /* the nearer end's half-neck */
+        vf t = VMUL(_mm_min_ps(s, VSUB(dd, s)), ir), t2 = VMUL(t, t);
         /* jm_cos_quarter, term by term */
         vf cs = VSUB(V1(1.0f / 40320), VMUL(t2, V1(1.0f / 3628800)));
         cs = VADD(V1(-1.0f / 720), VMUL(t2, cs));
@@ -162,11 +163,62 @@ static void splat_neck(const rows *R, const uint32_t *ps, int np, const int lo[3
         _mm_storeu_ps(V + k, _mm_or_ps(_mm_and_ps(ok, _mm_max_ps(v, old)), _mm_andnot_ps(ok, old)));
     })
 }
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && JM_SPLAT_VARIANT == 0
+#include <immintrin.h>
+#define HAVE_AVX2_PROBE 1
+/* the same operations eight vertices at a time */
+__attribute__((target("avx2"))) static void splat_ball8(const rows *R, const uint32_t *ps, int np, const int lo[3],
+                                                          const int hi[3], const float *q, float inv_r)
+{
+    const float *restrict X = R->x, *restrict Y = R->y, *restrict Z = R->z;
+    float *restrict V = R->v;
+    const __m256 qx = _mm256_set1_ps(q[0]), qy = _mm256_set1_ps(q[1]), qz = _mm256_set1_ps(q[2]);
+    const __m256 ir = _mm256_set1_ps(inv_r), one = _mm256_set1_ps(1.0f);
+    FOR_RUNS(8, ps, np, lo, hi, R->n, k, {
+        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(X + k), qx), dy = _mm256_sub_ps(_mm256_loadu_ps(Y + k), qy);
+        __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(Z + k), qz);
+        __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+        __m256 v = _mm256_sub_ps(one, _mm256_mul_ps(_mm256_sqrt_ps(d2), ir));
+        _mm256_storeu_ps(V + k, _mm256_max_ps(v, _mm256_loadu_ps(V + k)));
+    })
+}
+__attribute__((target("avx2"))) static void splat_link8(const rows *R, const uint32_t *ps, int np, const int lo[3],
+                                                          const int hi[3], const float *q, const float *u, float D,
+                                                          float rr2, float inv_r)
+{
+    const float *restrict X = R->x, *restrict Y = R->y, *restrict Z = R->z;
+    float *restrict V = R->v;
+    const __m256 qx = _mm256_set1_ps(q[0]), qy = _mm256_set1_ps(q[1]), qz = _mm256_set1_ps(q[2]);
+    const __m256 ux = _mm256_set1_ps(u[0]), uy = _mm256_set1_ps(u[1]), uz = _mm256_set1_ps(u[2]);
+    const __m256 dd = _mm256_set1_ps(D), r2 = _mm256_set1_ps(rr2), ir = _mm256_set1_ps(inv_r);
+    const __m256 zero = _mm256_setzero_ps();
+    FOR_RUNS(8, ps, np, lo, hi, R->n, k, {
+        __m256 wx = _mm256_sub_ps(_mm256_loadu_ps(X + k), qx), wy = _mm256_sub_ps(_mm256_loadu_ps(Y + k), qy);
+        __m256 wz = _mm256_sub_ps(_mm256_loadu_ps(Z + k), qz);
+        __m256 s = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wx, ux), _mm256_mul_ps(wy, uy)), _mm256_mul_ps(wz, uz));
+        __m256 q2 = _mm256_sub_ps(
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wx, wx), _mm256_mul_ps(wy, wy)), _mm256_mul_ps(wz, wz)),
+            _mm256_mul_ps(s, s));
+        __m256 ok = _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(s, zero, _CMP_GE_OQ), _mm256_cmp_ps(s, dd, _CMP_LE_OQ)),
+                                  _mm256_cmp_ps(q2, r2, _CMP_LT_OQ));
+        if (!_mm256_movemask_ps(ok)) continue;
+        __m256 t = _mm256_mul_ps(_mm256_min_ps(s, _mm256_sub_ps(dd, s)), ir), t2 = _mm256_mul_ps(t, t);
+        __m256 cs = _mm256_sub_ps(_mm256_set1_ps(1.0f / 40320), _mm256_mul_ps(t2, _mm256_set1_ps(1.0f / 3628800)));
+        cs = _mm256_add_ps(_mm256_set1_ps(-1.0f / 720), _mm256_mul_ps(t2, cs));
+        cs = _mm256_add_ps(_mm256_set1_ps(1.0f / 24), _mm256_mul_ps(t2, cs));
+        cs = _mm256_add_ps(_mm256_set1_ps(-0.5f), _mm256_mul_ps(t2, cs));
+        cs = _mm256_add_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(t2, cs));
+        __m256 v = _mm256_sub_ps(cs, _mm256_mul_ps(_mm256_sqrt_ps(_mm256_max_ps(q2, zero)), ir));
+        __m256 old = _mm256_loadu_ps(V + k);
+        _mm256_storeu_ps(V + k, _mm256_blendv_ps(old, _mm256_max_ps(v, old), ok));
+    })
+}
+#endif
 #else
 static void splat_ball(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
                        float inv_r)
 {
-    FOR_RUNS(ps, np, lo, hi, R->n, k, {
+    FOR_RUNS(4, ps, np, lo, hi, R->n, k, {
         for (int l = 0; l < 4; l++) {
             float dx = R->x[k + l] - q[0], dy = R->y[k + l] - q[1], dz = R->z[k + l] - q[2];
             float v = 1.0f - sqrtf(dx * dx + dy * dy + dz * dz) * inv_r;
@@ -174,19 +226,32 @@ static void splat_ball(const rows *R, const uint32_t *ps, int np, const int lo[3
         }
     })
 }
-static void splat_neck(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
-                       const float *u, float half, float rr2, float inv_r)
+static void splat_link(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
+                       const float *u, float D, float rr2, float inv_r)
 {
-    FOR_RUNS(ps, np, lo, hi, R->n, k, {
+    FOR_RUNS(4, ps, np, lo, hi, R->n, k, {
         for (int l = 0; l < 4; l++) {
             float wx = R->x[k + l] - q[0], wy = R->y[k + l] - q[1], wz = R->z[k + l] - q[2];
             float s = wx * u[0] + wy * u[1] + wz * u[2];
             float q2 = wx * wx + wy * wy + wz * wz - s * s;
-            if (!(s >= 0.0f && s <= half && q2 < rr2)) continue;
-            float v = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
+            if (!(s >= 0.0f && s <= D && q2 < rr2)) continue;
+            float sn = s < D - s ? s : D - s;
+            float v = jm_cos_quarter(sn * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
             if (v > R->v[k + l]) R->v[k + l] = v;
         }
     })
+}
+#endif
+
+/* eight vertices at a time where the CPU runs AVX2 (the same values) */
+static int wide;
+#ifdef HAVE_AVX2_PROBE
+#include <pthread.h>
+static pthread_once_t wide_once = PTHREAD_ONCE_INIT;
+static void wide_choose(void)
+{
+    __builtin_cpu_init();
+    wide = __builtin_cpu_supports("avx2") != 0;
 }
 #endif
 
@@ -233,7 +298,10 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
 {
     if (!nv) return 1;
     const int np = jm_probe_parts(B);
-    const size_t parts = (size_t)np * np * np, sn = (size_t)B + 1, ns = nv < 4 ? 4 : nv;
+#ifdef HAVE_AVX2_PROBE
+    pthread_once(&wide_once, wide_choose);
+#endif
+    const size_t parts = (size_t)np * np * np, sn = (size_t)B + 1, ns = nv < 8 ? 8 : nv;
     if (!reserve(pr, ns, parts)) return 0;
     const float thr = c->threshold, tol = c->mv_check, inv_r = 1.0f / c->r;
     /* below any value that counts */
@@ -256,7 +324,7 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
     for (size_t q = parts; q > 0; q--) ps[q] = ps[q - 1];
     ps[0] = 0;
     for (size_t w = nv; w < ns; w++) {
-        /* fewer than 4 vertices: far away dummies */
+        /* fewer than 8 vertices: far away dummies */
         pr->px[w] = pr->py[w] = pr->pz[w] = 1e30f;
         pr->vmax[w] = level;
     }
@@ -281,17 +349,36 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
             if (g->isolated[p]) continue;
             int lo[3], hi[3];
             float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
-            if (part_span(xs, B, c->inv_h, l3, h3, lo, hi)) splat_ball(&R, ps, np, lo, hi, q, inv_r);
+            if (part_span(xs, B, c->inv_h, l3, h3, lo, hi)) {
+#ifdef HAVE_AVX2_PROBE
+                if (wide)
+                    splat_ball8(&R, ps, np, lo, hi, q, inv_r);
+                else
+#endif
+                    splat_ball(&R, ps, np, lo, hi, q, inv_r);
+            }
             for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
+                /* both half-necks of a link at once, from its lower end
+                 * (or from this end when the other lies outside the box,
+                 * where the loop does not visit it) */
+                const uint32_t m = g->nb[e];
+                const float *qm = &g->pos[3 * (size_t)m];
+                if (m < p && !(qm[0] < blo[0] || qm[0] > bhi[0] || qm[1] < blo[1] || qm[1] > bhi[1] ||
+                               qm[2] < blo[2] || qm[2] > bhi[2]))
+                    continue;
                 const float *u = &g->nb_dir[4 * (size_t)e];
-                const float half = 0.5f * u[3], rr = half <= neck_len ? rn : rb;
+                const float rr = 0.5f * u[3] <= neck_len ? rn : rb;
                 for (int a = 0; a < 3; a++) {
-                    float m = q[a] + u[a] * half;
-                    l3[a] = (m < q[a] ? m : q[a]) - rr;
-                    h3[a] = (m > q[a] ? m : q[a]) + rr;
+                    l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rr;
+                    h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rr;
                 }
-                if (part_span(xs, B, c->inv_h, l3, h3, lo, hi))
-                    splat_neck(&R, ps, np, lo, hi, q, u, half, rr * rr, inv_r);
+                if (!part_span(xs, B, c->inv_h, l3, h3, lo, hi)) continue;
+#ifdef HAVE_AVX2_PROBE
+                if (wide)
+                    splat_link8(&R, ps, np, lo, hi, q, u, u[3], rr * rr, inv_r);
+                else
+#endif
+                    splat_link(&R, ps, np, lo, hi, q, u, u[3], rr * rr, inv_r);
             }
         }
 

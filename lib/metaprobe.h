@@ -26,7 +26,7 @@ typedef struct jm_probe {
 /* parts are JM_PROBE_PART cubes a side: a block of B cubes has
  * jm_probe_parts(B) a side, and node (i, j, k) lies in part
  * jm_probe_part(np, i, j, k) */
-#define JM_PROBE_PART 2
+#define JM_PROBE_PART 4
 static inline int jm_probe_parts(int B) { return (B + JM_PROBE_PART - 1) / JM_PROBE_PART; }
 static inline uint32_t jm_probe_part(int np, int i, int j, int k)
 {

@@ -31,7 +31,7 @@ void jm_metavertex_config(jm_config *c)
     c->mv_tol = 0.0025f;
     /* the probe settles again a vertex off the surface by more than this
      * (about 1.5 % of the jet's vertices; 0.8 % are off by more than 0.02) */
-    c->mv_check = 0.01f;
+    c->mv_check = 0.0125f;
     /* normals blend pieces up to JM_MV_BAND r from where they meet (see
      * jm_meta_weight), none more than this below the maximum */
     c->mv_tau = MV_GAP;
