@@ -258,19 +258,21 @@ static void wide_choose(void)
 #endif
 
 /* the parts [lo, hi] (per axis) holding the cubes that meet the box
- * [blo, bhi]; 0 if none */
-static int part_span(const float *const xs[3], int B, float inv_h, const float blo[3], const float bhi[3], int lo[3],
+ * [blo, bhi] (nodes x0 + i h); 0 if none. The boxes are wider than the
+ * pieces by a thousandth of r, far more than the rounding here (doubles). */
+static inline int dfloor(double x)
+{
+    int t = (int)x;
+    return t - (x < (double)t);
+}
+static int part_span(const float x0[3], int B, double inv_h, const float blo[3], const float bhi[3], int lo[3],
                      int hi[3])
 {
     for (int a = 0; a < 3; a++) {
-        int i0, i1;
-        node_span(xs[a], B + 1, inv_h, blo[a], bhi[a], &i0, &i1);
-        /* nodes i0 .. i1 - 1 lie in the box: cubes i0 - 1 .. i1 - 1 meet
-         * it (the one around it if no node does) */
-        int c0 = i0 - 1, c1 = i1 > i0 ? i1 - 1 : i0 - 1;
-        if (c0 < 0) c0 = 0;
-        if (c1 > B - 1) c1 = B - 1;
-        if (c1 < c0) return 0;
+        double f0 = ((double)blo[a] - (double)x0[a]) * inv_h, f1 = ((double)bhi[a] - (double)x0[a]) * inv_h;
+        if (f1 < 0.0 || f0 >= (double)B) return 0;
+        /* the cubes holding the box's ends, and all between */
+        int c0 = f0 < 0.0 ? 0 : dfloor(f0), c1 = f1 >= (double)B ? B - 1 : dfloor(f1);
         lo[a] = c0 / PART;
         hi[a] = c1 / PART;
     }
@@ -336,7 +338,8 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
      * within as much of its axis; and up to pi/2 r along its axis a
      * half-neck beats its own ball only closer than r to the axis (see
      * field.c), where that ball holds the value */
-    const float *xs[3] = {x, y, z};
+    const float x0[3] = {x[0], y[0], z[0]};
+    const double inv_hd = 1.0 / (double)c->h;
     const rows R = {pr->px, pr->py, pr->pz, pr->vmax, ns};
     const float slack = 1e-3f * c->r, rb = c->r * (1.0f - level) + slack;
     const float rn = fminf(rb, 1.02f * c->r + slack), neck_len = 1.5707f * c->r;
@@ -351,7 +354,7 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
             if (g->isolated[p]) continue;
             int lo[3], hi[3];
             float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
-            if (part_span(xs, B, c->inv_h, l3, h3, lo, hi)) {
+            if (part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
 #ifdef HAVE_AVX2_PROBE
                 if (wide)
                     splat_ball8(&R, ps, np, lo, hi, q, inv_r);
@@ -374,7 +377,7 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
                     l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rr;
                     h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rr;
                 }
-                if (!part_span(xs, B, c->inv_h, l3, h3, lo, hi)) continue;
+                if (!part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
 #ifdef HAVE_AVX2_PROBE
                 if (wide)
                     splat_link8(&R, ps, np, lo, hi, q, u, u[3], rr * rr, inv_r);
