@@ -183,7 +183,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
                 float *a = &A[3 * (size_t)vi[k]];
                 a[0] += as;
                 a[1] += area;
-                if (h2 < a[2]) a[2] = h2;
+                a[2] = h2 < a[2] ? h2 : a[2];
             }
         }
         for (size_t i = 0; i < nv; i++) {

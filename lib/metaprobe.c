@@ -96,7 +96,7 @@ typedef struct rows {
 } rows;
 
 /* The parts lo..hi (per axis; np a side, vertices ps[part] to
- * ps[part + 1]) visited in runs of 4 vertices from the start of each (the
+ * ps[part + 1]) visited in runs of W vertices from the start of each (the
  * last shifted back to end at the part's end, or at the array's: a run
  * reaching into another part's vertices gives them their true values,
  * which changes nothing). */
