@@ -37,6 +37,8 @@ void jm_metavertex_config(jm_config *c)
     c->mv_tau = MV_GAP;
     float reach = reach_of(c, c->threshold - c->mv_tau);
     c->mv_reach2 = reach * reach;
+    reach = reach_of(c, c->threshold - c->mv_tol);
+    c->mv_reach2s = reach * reach;
     /* A surface point lies within reach_of(threshold) of its winning
      * piece's particle, a piece exceeding the threshold there within as
      * much of its own: when twice that is under the link distance, every
@@ -94,12 +96,12 @@ static void near_add(near_set *ns, uint32_t id, float v)
 
 /* adds particle k's pieces whose value at p exceeds `level` */
 static void near_particle(const jm_grid *g, const jm_config *c, uint32_t k, const float p[3], float level,
-                          float rl2, near_set *ns)
+                          float rl2, float reach2, near_set *ns)
 {
     const float *q = &g->pos[3 * (size_t)k];
     const float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
     const float d2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
-    if (!(d2 < c->mv_reach2)) return;
+    if (!(d2 < reach2)) return;
     const float inv_r = 1.0f / c->r;
     if (d2 < rl2) near_add(ns, k, 1.0f - sqrtf(d2) * inv_r);
     for (uint32_t e = g->nb_start[k]; e < g->nb_start[k + 1]; e++) {
@@ -120,15 +122,19 @@ static void near_scan(const jm_grid *g, const jm_config *c, const jm_hood *hood,
 {
     ns->n = 0;
     ns->vmax = -INFINITY;
-    /* q < r (cos(s/r) - level) <= r (1 - level) for any piece */
+    /* q < r (cos(s/r) - level) <= r (1 - level) for any piece; and no
+     * piece of a particle farther than its reach exceeds the level (the
+     * settle's level or the normals') */
     const float rl = c->r * (1.0f - level), rl2 = rl * rl;
+    const float reach2 = level >= c->threshold - c->mv_tol ? c->mv_reach2s : c->mv_reach2;
     if (c->mv_links) {
         uint32_t i = win < g->n ? win : g->nb_owner[win - g->n];
-        near_particle(g, c, i, p, level, rl2, ns);
-        for (uint32_t e = g->nb_start[i]; e < g->nb_start[i + 1]; e++) near_particle(g, c, g->nb[e], p, level, rl2, ns);
+        near_particle(g, c, i, p, level, rl2, reach2, ns);
+        for (uint32_t e = g->nb_start[i]; e < g->nb_start[i + 1]; e++)
+            near_particle(g, c, g->nb[e], p, level, rl2, reach2, ns);
         return;
     }
-    const float reach = sqrtf(c->mv_reach2);
+    const float reach = sqrtf(reach2);
     int lo[3], hi[3];
     for (int a = 0; a < 3; a++) {
         int64_t l = (int64_t)floorf((p[a] - reach) * g->inv_cell) - hood->c0[a];
@@ -141,7 +147,7 @@ static void near_scan(const jm_grid *g, const jm_config *c, const jm_hood *hood,
             for (int x = lo[0]; x <= hi[0]; x++) {
                 size_t cell = ((size_t)z * hood->n[1] + y) * hood->n[0] + x;
                 for (uint32_t k = hood->range[2 * cell]; k < hood->range[2 * cell + 1]; k++)
-                    if (!g->isolated[k]) near_particle(g, c, k, p, level, rl2, ns);
+                    if (!g->isolated[k]) near_particle(g, c, k, p, level, rl2, reach2, ns);
             }
 }
 
