@@ -50,6 +50,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->soa.buf);
     free(s->order);
     free(s->an_list.buf);
+    jm_probe_free(&s->probe);
     memset(s, 0, sizeof *s);
 }
 
@@ -108,47 +109,55 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     return 1;
 }
 
+/* The edge's two pieces at a point: values (-inf where absent), unit
+ * normals, the winner's index. */
+typedef struct cand_pt {
+    float v[2], nk[2][3];
+    int w;
+} cand_pt;
+
 /* Metasphere at p, from the pieces that won at the edge's two nodes (the
- * field is their maximum near the edge, but see jm_meta_settle): returns
+ * field is their maximum near the edge, but see jm_meta_probe): returns
  * the value; n gets the winning piece's outward normal, *glen its gradient
- * length and *win the piece; blend (may be NULL) the normal to output: the
- * winner's, or along a crease of the union (both pieces within the blend
- * width of each other) the blend of both, weighted smoothly by how close
- * each comes to the maximum. */
+ * length and *win the piece, *cp both pieces there. */
 static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
-                       float *glen, float blend[3], uint32_t *win)
+                       float *glen, cand_pt *cp, uint32_t *win)
 {
-    float nk[2][3], v[2] = {-INFINITY, -INFINITY}, gk[2] = {0, 0};
+    float gk[2] = {0, 0};
+    cp->v[0] = cp->v[1] = -INFINITY;
     for (int k = 0; k < 2; k++)
         if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0]))
-            v[k] = jm_prim_eval(g, c, cand[k], p, nk[k], &gk[k]);
-    int w = v[1] > v[0];
-    if (v[w] == -INFINITY) return -INFINITY;
-    memcpy(n, nk[w], sizeof nk[w]);
+            cp->v[k] = jm_prim_eval(g, c, cand[k], p, cp->nk[k], &gk[k]);
+    const int w = cp->v[1] > cp->v[0];
+    cp->w = w;
+    if (cp->v[w] == -INFINITY) return -INFINITY;
+    memcpy(n, cp->nk[w], sizeof cp->nk[w]);
     *glen = gk[w];
     *win = cand[w];
-    if (blend && !(v[1 - w] > v[w] - c->mv_tau)) {
-        /* the other piece out of reach (or none): the winner's normal */
-        memcpy(blend, n, 3 * sizeof *n);
-    } else if (blend) {
-        const float tau = c->mv_tau;
-        float w0 = v[0] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[0]) / tau;
-        float w1 = v[1] == -INFINITY ? 0.0f : 1.0f - (v[w] - v[1]) / tau;
-        w0 = w0 > 0.0f ? w0 * w0 * (3.0f - 2.0f * w0) : 0.0f;
-        w1 = w1 > 0.0f ? w1 * w1 * (3.0f - 2.0f * w1) : 0.0f;
-        float o[3], len = 0.0f;
-        for (int a = 0; a < 3; a++) {
-            o[a] = (w0 > 0.0f ? w0 * nk[0][a] : 0.0f) + (w1 > 0.0f ? w1 * nk[1][a] : 0.0f);
-            len += o[a] * o[a];
-        }
-        if (len > 0.0f) {
-            len = 1.0f / sqrtf(len);
-            for (int a = 0; a < 3; a++) blend[a] = o[a] * len;
-        } else {
-            memcpy(blend, n, 3 * sizeof *n);
-        }
+    return cp->v[w];
+}
+
+/* The normal to output from cand_eval's pieces: the winner's, or along a
+ * crease of the union both, blended by jm_meta_weight. */
+static void cand_blend(const jm_config *c, const cand_pt *cp, float out[3])
+{
+    const int w = cp->w;
+    const float wt = cp->v[1 - w] > cp->v[w] - c->mv_tau ? jm_meta_weight(c, cp->v[w] - cp->v[1 - w], cp->nk[w], cp->nk[1 - w]) : 0.0f;
+    if (!(wt > 0.0f)) {
+        memcpy(out, cp->nk[w], 3 * sizeof *out);
+        return;
     }
-    return v[w];
+    float o[3], len = 0.0f;
+    for (int a = 0; a < 3; a++) {
+        o[a] = cp->nk[w][a] + wt * cp->nk[1 - w][a];
+        len += o[a] * o[a];
+    }
+    if (len > 0.0f) {
+        len = 1.0f / sqrtf(len);
+        for (int a = 0; a < 3; a++) out[a] = o[a] * len;
+    } else {
+        memcpy(out, cp->nk[w], 3 * sizeof *out);
+    }
 }
 
 /* The metasphere's crossing on edge a + t ab: the linear estimate t is
@@ -185,8 +194,10 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
     const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
     for (int it = 0; it < 4; it++) {
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
-        float f = cand_eval(g, c, cand, p, n, &glen, nrm, win) - c->threshold;
+        cand_pt cp;
+        float f = cand_eval(g, c, cand, p, n, &glen, &cp, win) - c->threshold;
         if (fabsf(f) < tol) {
+            cand_blend(c, &cp, nrm);
             *have_nrm = 1;
             return t;
         }
@@ -200,6 +211,7 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
              * left is second order in the step, about 1e-3 of the edge
              * here), with the normal of the point just evaluated beside it
              * (about 1.5 degrees mean difference on the jet) */
+            cand_blend(c, &cp, nrm);
             *have_nrm = 1;
             return tn;
         }
@@ -213,7 +225,9 @@ static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t can
 {
     float n[3], glen;
     uint32_t win;
-    cand_eval(g, c, cand, p, n, &glen, nrm, &win);
+    cand_pt cp;
+    if (cand_eval(g, c, cand, p, n, &glen, &cp, &win) == -INFINITY) return;
+    cand_blend(c, &cp, nrm);
 }
 
 /* Sorts (slot, index) pairs by slot. They are made in scan order, so
@@ -344,7 +358,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     out->t_field = t1 - t0;
     if (inside == 0 || inside == nn) return;
 
-    const int meta = c->field == JM_FIELD_METASPHERE;
+    const int meta = c->field == JM_FIELD_METASPHERE, np = jm_probe_parts(B);
     const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
     const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
     jm_mem *mem = env->mem;
@@ -412,10 +426,11 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
                                 tt = refine_root(g, c, cv, a, ab, fa - thr, tt, mn, &have_mn, &win);
-                                if (c->exact) {
-                                    /* every piece near the point, not just the two candidates */
-                                    tt = jm_meta_settle(g, c, &s->hood, cv, win, a, ab, fa - thr, tt, want_nrm ? mn : NULL);
-                                    have_mn = want_nrm;
+                                /* for jm_meta_probe: the edge and the root */
+                                const float pt[3] = {a[0] + tt * ab[0], a[1] + tt * ab[1], a[2] + tt * ab[2]};
+                                if (!jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, pt)) {
+                                    out->failed = 1;
+                                    goto done;
                                 }
                             }
                             float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
@@ -429,7 +444,6 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 /* reuse the normal of the refinement's last
                                  * evaluation when it was at this very point */
                                 if (have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
-                                else if (c->exact) jm_meta_normal(g, c, &s->hood, win, p, nr);
                                 else cand_normal(g, c, cv, p, nr);
                             }
                             ref = (uint32_t)out->nv++;
@@ -473,6 +487,11 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
+    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos,
+                               want_nrm ? out->nrm : NULL, out->cand, out->nv)) {
+        out->failed = 1;
+        return;
+    }
     sort_pairs(out->bmap, out->nb);
     if (!meta && want_nrm && out->nv && !sph_normals(g, c, s, lo, hi, out)) { out->failed = 1; return; }
     if (c->uv_mode != JM_UV_NONE)

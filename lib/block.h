@@ -3,6 +3,7 @@
 #define JETMESH_BLOCK_H
 #include "field.h"
 #include "anisotropy.h"
+#include "metaprobe.h"
 
 /* What one block produced. Vertex refs in tri: an owned vertex's local index,
  * or JM_PENDING | k for the k-th (owner block, owner slot) pair in pend. */
@@ -39,6 +40,7 @@ typedef struct jm_scratch {
     uint32_t *order;          /* sph: vertices sorted by part of the block */
     size_t cap_order;
     jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
+    jm_probe probe;           /* metasphere: the vertices' edges, checked on every piece */
 } jm_scratch;
 
 typedef struct jm_block_set {

@@ -80,8 +80,9 @@ typedef struct jm_config {
     float mv_tol;      /* a piece beating a vertex's value by more moves it (units of r) */
     float mv_tau;      /* normals blend the pieces within this of the maximum (units of r) */
     float mv_reach2;   /* no piece exceeds threshold - mv_tau farther than this (squared) from its particle */
+    float mv_reach2s;  /* nor threshold - mv_tol farther than this */
     int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
-    int exact;         /* metasphere: settle every vertex on all the pieces near it */
+    float mv_check;    /* metasphere: a vertex whose value is off by more is settled again (units of r) */
     /* the unit of length (units.h): every length above is in units of 2^unit;
      * particle coordinates are multiplied by unit_in = 2^-unit as they are read */
     int unit;

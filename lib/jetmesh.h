@@ -109,25 +109,29 @@
  * Vertex placement: SPH vertices are linearly interpolated between the two
  * node samples (as splashsurf does). Metasphere vertices are refined onto the
  * surface of the two pieces (balls, half-necks) that won at the edge's
- * nodes, by Newton steps on the analytic function; a third piece winning
- * only mid-edge is missed (0.8 % of the jet's vertices lie 0.02 r to 0.33 r
- * inside the surface) unless exact_surface is set, which evaluates every
- * piece near each vertex and refines again with any that beats the surface
- * there: every vertex then lies on the exact surface. Then, since a
- * triangle with its corners on a curved surface lies inside it by on average
- * sum_e k_e l_e^2 / 24 (k_e the normal curvature along edge e, estimated as
- * dn.dp from the analytic normals), each vertex moves outward by the
+ * nodes, by Newton steps on the analytic function; a third piece can still
+ * win in the middle of an edge (0.8 % of the jet's vertices would lie 0.02 r
+ * to 0.33 r inside the surface), so every piece is also evaluated at every
+ * vertex, splatted onto each block's vertices as onto its nodes, and a
+ * vertex off the surface by more than 0.0125 r is refined again on all the
+ * pieces there: every vertex lies within that of the exact surface. Then,
+ * since a triangle with its corners on a curved surface lies inside it by
+ * on average sum_e k_e l_e^2 / 24 (k_e the normal curvature along edge e,
+ * estimated as dn.dp from the analytic normals), each vertex moves outward by the
  * area-weighted mean of that sag over its triangles, at most a tenth of a
- * cube (no_compensation turns this off). One particle then gives a volume
- * within 1 % of 4/3 pi r^3 at cube size r/4 and within 0.3 % at r/8.
+ * cube and under a third of the least altitude of its triangles, so no
+ * triangle folds over (no_compensation turns this off). One particle then
+ * gives a volume within 1 % of 4/3 pi r^3 at cube size r/4 and within 0.3 %
+ * at r/8.
  * Interpolation parameters are kept in [0.01, 0.99], so no two vertices
  * coincide at a node.
  *
  * Normals: SPH, the normalised gradient of phi. Metasphere, the outward
- * unit normals of the pieces within 0.5 h/r of the maximum (h the cube
- * edge: what the field changes over half a cube), weighted by smoothstep(1 - gap / width), so shading turns
- * smoothly across the creases where pieces meet instead of jumping (the
- * two edge pieces; every piece near the vertex with exact_surface). Where
+ * unit normal of the winning piece; where two pieces meet in a crease, the
+ * other's is added with weight smoothstep(1 - gap / span) (gap: how far its
+ * value lies below the winner's; span: half r times the distance between
+ * their unit normals, at most 0.5), which shades every crease as a fillet
+ * about r/2 wide on each side whatever its angle, smoothly (C1). Where
  * the surface bends more sharply than the cubes follow, a normal pointing
  * away from one of its triangles (cosine under 0.02) is turned toward them
  * until it faces them all where possible: on dense lattices over 99.5 % of
@@ -354,12 +358,10 @@ typedef struct jm_params {
                                  (twice) and then the mesh left unsimplified.
                                  Sphere templates of isolated particles are
                                  simplified too, never smoothed. 0 = off */
-    int exact_surface;      /**< metasphere: 1 checks every piece near each
-                                 vertex, not only the two that won at its
-                                 edge's nodes (see Vertex placement): every
-                                 vertex on the exact surface, normals blended
-                                 over all the pieces meeting there; about
-                                 1.7 times the instructions of the jet */
+    int exact_surface;      /**< accepted and ignored: metasphere vertices
+                                 are always checked against every piece now
+                                 (see Vertex placement); kept for callers
+                                 that set it */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */

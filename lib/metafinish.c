@@ -41,6 +41,8 @@
  * keeping the best of a few steps (a fan folded over itself may have no
  * normal facing every triangle). */
 #define COS_MIN 0.02f
+/* the sag moves a vertex at most this share of its triangles' least altitude */
+#define FOLD_SHARE (1.0f / 3.0f)
 static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
                         size_t nt, uint8_t *flag)
 {
@@ -158,37 +160,52 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
 int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
                    int facing, float max_sag)
 {
-    /* per vertex: sag * area, area; then the facing's flags */
-    float *acc = jm_calloc(mem, 2 * nv + 1, sizeof(float));
+    /* per vertex: sag * area, area, the least squared altitude of its
+     * triangles; then the facing's flags */
+    float *acc = jm_alloc(mem, (3 * nv + 1) * sizeof(float));
     if (!acc) return 0;
     float *A = acc;
     const float *P = pos, *N = nrm;
     if (compensate) {
+        for (size_t i = 0; i < nv; i++) A[3 * i] = A[3 * i + 1] = 0.0f, A[3 * i + 2] = INFINITY;
         for (size_t t = 0; t < nt; t++) {
             LOAD_TRIANGLE;
             float sag = (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
                         (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
                         (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
             const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
+            /* the triangle's least altitude, squared: (2 area / longest edge)^2 */
+            float l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+            float l3 = e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2], lm = l1 > l2 ? l1 : l2;
+            lm = lm > l3 ? lm : l3;
+            const float h2 = len * len / lm;
             for (int k = 0; k < 3; k++) {
-                A[2 * (size_t)vi[k]] += as;
-                A[2 * (size_t)vi[k] + 1] += area;
+                float *a = &A[3 * (size_t)vi[k]];
+                a[0] += as;
+                a[1] += area;
+                a[2] = h2 < a[2] ? h2 : a[2];
             }
         }
         for (size_t i = 0; i < nv; i++) {
-            if (!(A[2 * i + 1] > 0.0f)) continue;
-            float d = A[2 * i] / A[2 * i + 1];
+            if (!(A[3 * i + 1] > 0.0f)) continue;
+            float d = A[3 * i] / A[3 * i + 1];
             /* where the normals turn across a triangle more than a curved
              * surface could (creases and folds finer than the cubes), the
-             * estimate means nothing: at most a tenth of a cube */
-            d = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
+             * estimate means nothing: at most a tenth of a cube; and less
+             * than a third of the least altitude of the vertex's triangles,
+             * so that no triangle folds over (a vertex moved less than a
+             * third of its triangle's altitudes stays on its side of the
+             * line through the other two, moved as little) */
+            float lim = FOLD_SHARE * sqrtf(A[3 * i + 2]);
+            lim = lim < max_sag ? lim : max_sag;
+            d = d > lim ? lim : (d < -lim ? -lim : d);
             for (int a = 0; a < 3; a++) pos[3 * i + a] += d * N[3 * i + a];
         }
     }
     if (facing && !face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc)) {
-        jm_free(mem, acc, (2 * nv + 1) * sizeof(float));
+        jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
         return 0;
     }
-    jm_free(mem, acc, (2 * nv + 1) * sizeof(float));
+    jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
     return 1;
 }

@@ -2,6 +2,7 @@
 #ifndef JETMESH_METAVERTEX_H
 #define JETMESH_METAVERTEX_H
 #include "field.h"
+#include <math.h>
 
 /* Fills the metasphere's vertex constants of c (the reach of the pieces,
  * the blend width of the normals, the tolerance of the check); called by
@@ -18,6 +19,32 @@ void jm_metavertex_config(jm_config *c);
  * weighted by how close they come to it. */
 float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, const uint32_t cand[2], uint32_t win,
                      const float a[3], const float ab[3], float fa, float t, float nrm[3]);
+
+/* Normals are blended across a crease: a piece gap below the leading one
+ * (unit normals nk and nt) weighs smoothstep(1 - gap / span), span being
+ * JM_MV_BAND times |nt - nk| (at most c->mv_tau). As the gap grows about as
+ * |nt - nk| times the distance from where the two pieces meet (units of
+ * r), every crease is shaded as a fillet JM_MV_BAND r wide on each side
+ * whatever its angle, smoothly (C1): weight 1 where they meet, 0 with a
+ * flat tangent at the band's edge. 0 beyond the band. */
+#define JM_MV_BAND 0.5f
+static inline float jm_meta_weight(const jm_config *c, float gap, const float nt[3], const float nk[3])
+{
+    if (!(gap < c->mv_tau)) return 0.0f;
+    const float d[3] = {nk[0] - nt[0], nk[1] - nt[1], nk[2] - nt[2]};
+    const float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    /* gap < span, without the root where it fails */
+    if (!(gap * gap < JM_MV_BAND * JM_MV_BAND * d2)) return 0.0f;
+    float span = JM_MV_BAND * sqrtf(d2);
+    if (span > c->mv_tau) span = c->mv_tau;
+    const float x = 1.0f - gap / span;
+    return x * x * (3.0f - 2.0f * x);
+}
+
+/* The normal of n pieces meeting near a point (values v, unit normals
+ * nk): the leading piece's plus each other's by jm_meta_weight,
+ * normalised. */
+void jm_meta_blend(const jm_config *c, int n, const float *v, const float (*nk)[3], float out[3]);
 
 /* The blended normal at p, a point on the surface next to piece `win`. */
 void jm_meta_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, uint32_t win, const float p[3],

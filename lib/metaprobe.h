@@ -1,0 +1,64 @@
+/* metaprobe.h - every metasphere piece evaluated at a block's vertices: a third piece beating the surface, crease normals. */
+#ifndef JETMESH_METAPROBE_H
+#define JETMESH_METAPROBE_H
+#include "field.h"
+
+/* A block's metasphere vertices as the probe needs them (worker scratch,
+ * grown with realloc like the rest of the scratch). Per vertex, in block
+ * order: its edge (node * 7 + direction, as the block's vertex slots) and
+ * the root its edge's two pieces gave (before the clamp to [0.01, 0.99]).
+ * The rest is the probe's own: the vertices' points sorted by part of the
+ * block (PART^3 cubes) and the largest piece value found at each. */
+typedef struct jm_probe {
+    size_t cap;
+    uint32_t *slot;
+    float *t;
+    uint32_t *part;       /* per vertex: its part */
+    float *pt;            /* per vertex: its root's point (3 floats) */
+    size_t capw;          /* sorted arrays: vertices + 4 */
+    uint32_t *order;      /* sorted position -> vertex */
+    float *px, *py, *pz;  /* the vertices' points */
+    float *vmax;          /* the largest value of a piece there */
+    size_t capp;
+    uint32_t *pstart;     /* parts + 1: first sorted position of each part */
+} jm_probe;
+
+/* parts are JM_PROBE_PART cubes a side: a block of B cubes has
+ * jm_probe_parts(B) a side, and node (i, j, k) lies in part
+ * jm_probe_part(np, i, j, k) */
+#define JM_PROBE_PART 4
+static inline int jm_probe_parts(int B) { return (B + JM_PROBE_PART - 1) / JM_PROBE_PART; }
+static inline uint32_t jm_probe_part(int np, int i, int j, int k)
+{
+    return (uint32_t)(((k / JM_PROBE_PART) * np + j / JM_PROBE_PART) * np + i / JM_PROBE_PART);
+}
+
+/* Room for vertex v (0 if out of memory). */
+int jm_probe_grow(jm_probe *pr, size_t v);
+
+/* Records vertex v: its edge slot, part, the root t on its edge and the
+ * root's point p (0 if out of memory). */
+static inline int jm_probe_add(jm_probe *pr, size_t v, uint32_t slot, uint32_t part, float t, const float p[3])
+{
+    if (v >= pr->cap && !jm_probe_grow(pr, v)) return 0;
+    pr->slot[v] = slot;
+    pr->t[v] = t;
+    pr->part[v] = part;
+    pr->pt[3 * v] = p[0];
+    pr->pt[3 * v + 1] = p[1];
+    pr->pt[3 * v + 2] = p[2];
+    return 1;
+}
+void jm_probe_free(jm_probe *pr);
+
+/* The block's vertices (nv of them: pos, nrm (NULL: no normals), the edge
+ * pieces cand; B cubes a side with node coordinates x, y, z and node
+ * values f) checked against every piece of the field: where the largest
+ * piece value at a vertex's root is off the threshold by more than
+ * c->mv_tol (a third piece winning mid-edge, or a refinement stopped
+ * short), the vertex is settled again on every piece near it
+ * (jm_meta_settle) and its normal blended from them. 0 if out of memory. */
+int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, int B, const float *x,
+                  const float *y, const float *z, const float *f, float *pos, float *nrm, const uint32_t *cand,
+                  size_t nv);
+#endif
