@@ -41,8 +41,9 @@
  * keeping the best of a few steps (a fan folded over itself may have no
  * normal facing every triangle). */
 #define COS_MIN 0.02f
-/* the sag moves a vertex at most this share of its triangles' least altitude */
-#define FOLD_SHARE (1.0f / 3.0f)
+/* rounds that halve the offsets of a folded triangle's vertices before
+ * they are zeroed */
+#define FOLD_HALVINGS 4
 static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
                         size_t nt, uint8_t *flag)
 {
@@ -160,47 +161,67 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
 int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
                    int facing, float max_sag)
 {
-    /* per vertex: sag * area, area, the least squared altitude of its
-     * triangles; then the facing's flags */
+    /* per vertex: sag * area, area; then each vertex's offset D; the
+     * first nv bytes are the flags of the fold rounds and of the facing */
     float *acc = jm_alloc(mem, (3 * nv + 1) * sizeof(float));
     if (!acc) return 0;
-    float *A = acc;
+    float *A = acc, *D = acc + 2 * nv;
     const float *P = pos, *N = nrm;
     if (compensate) {
-        for (size_t i = 0; i < nv; i++) A[3 * i] = A[3 * i + 1] = 0.0f, A[3 * i + 2] = INFINITY;
+        memset(A, 0, 2 * nv * sizeof(float));
         for (size_t t = 0; t < nt; t++) {
             LOAD_TRIANGLE;
             float sag = (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
                         (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
                         (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
             const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
-            /* the triangle's least altitude, squared: (2 area / longest edge)^2 */
-            float l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
-            float l3 = e3[0] * e3[0] + e3[1] * e3[1] + e3[2] * e3[2], lm = l1 > l2 ? l1 : l2;
-            lm = lm > l3 ? lm : l3;
-            const float h2 = len * len / lm;
             for (int k = 0; k < 3; k++) {
-                float *a = &A[3 * (size_t)vi[k]];
-                a[0] += as;
-                a[1] += area;
-                a[2] = h2 < a[2] ? h2 : a[2];
+                A[2 * (size_t)vi[k]] += as;
+                A[2 * (size_t)vi[k] + 1] += area;
             }
         }
         for (size_t i = 0; i < nv; i++) {
-            if (!(A[3 * i + 1] > 0.0f)) continue;
-            float d = A[3 * i] / A[3 * i + 1];
+            float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
             /* where the normals turn across a triangle more than a curved
              * surface could (creases and folds finer than the cubes), the
-             * estimate means nothing: at most a tenth of a cube; and less
-             * than a third of the least altitude of the vertex's triangles,
-             * so that no triangle folds over (a vertex moved less than a
-             * third of its triangle's altitudes stays on its side of the
-             * line through the other two, moved as little) */
-            float lim = FOLD_SHARE * sqrtf(A[3 * i + 2]);
-            lim = lim < max_sag ? lim : max_sag;
-            d = d > lim ? lim : (d < -lim ? -lim : d);
-            for (int a = 0; a < 3; a++) pos[3 * i + a] += d * N[3 * i + a];
+             * estimate means nothing: at most a tenth of a cube */
+            D[i] = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
         }
+        /* No triangle folds over: a triangle whose normal, its vertices
+         * moved, would point against its own before has its vertices' offsets
+         * halved (zeroed after FOLD_HALVINGS rounds), until none does. Each
+         * zeroing round zeroes a vertex of every folded triangle and a
+         * triangle of unmoved vertices is not folded, so the rounds end. */
+        uint8_t *flag = (uint8_t *)acc;
+        for (int round = 0;; round++) {
+            memset(flag, 0, nv);
+            size_t folded = 0;
+            for (size_t t = 0; t < nt; t++) {
+                const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
+                float p[3][3], q[3][3];
+                for (int k = 0; k < 3; k++)
+                    for (int a = 0; a < 3; a++) {
+                        p[k][a] = P[3 * (size_t)vi[k] + a];
+                        q[k][a] = p[k][a] + D[vi[k]] * N[3 * (size_t)vi[k] + a];
+                    }
+                float u[3], v[3], w[3], x[3];
+                for (int a = 0; a < 3; a++) {
+                    u[a] = p[1][a] - p[0][a], v[a] = p[2][a] - p[0][a];
+                    w[a] = q[1][a] - q[0][a], x[a] = q[2][a] - q[0][a];
+                }
+                const float c0[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+                const float c1[3] = {w[1] * x[2] - w[2] * x[1], w[2] * x[0] - w[0] * x[2], w[0] * x[1] - w[1] * x[0]};
+                if (c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f) {
+                    flag[vi[0]] = flag[vi[1]] = flag[vi[2]] = 1;
+                    folded++;
+                }
+            }
+            if (!folded) break;
+            for (size_t i = 0; i < nv; i++)
+                if (flag[i]) D[i] = round < FOLD_HALVINGS ? 0.5f * D[i] : 0.0f;
+        }
+        for (size_t i = 0; i < nv; i++)
+            for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
     if (facing && !face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc)) {
         jm_free(mem, acc, (3 * nv + 1) * sizeof(float));

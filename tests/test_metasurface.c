@@ -233,7 +233,7 @@ static void test_exact_dense(void **s)
  * follow (4.6 % of the corners faced away at spacing 2 r before), and with
  * the sag compensation: its offset folded triangles over at creases (0.55 %
  * of the corners of the generated 1000-particle block at spacing 1.5 r
- * faced away) until it was kept under a third of their least altitude */
+ * faced away) until a fold halves (then zeroes) the offsets of its vertices */
 static void facing_case(const float *xyz, size_t n, float r, jm_method m, int exact, int comp)
 {
     jm_context *ctx;
