@@ -158,6 +158,26 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
     return ok;
 }
 
+/* Whether triangle v, its vertices moved by D along their normals N, turns
+ * its normal against its own at positions P. */
+static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
+{
+    float p[3][3], q[3][3];
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++) {
+            p[k][a] = P[3 * (size_t)v[k] + a];
+            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
+        }
+    float u[3], w[3], x[3], y[3];
+    for (int a = 0; a < 3; a++) {
+        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
+        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
+    }
+    const float c0[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+    return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
+}
+
 int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
                    int facing, float max_sag)
 {
@@ -191,35 +211,44 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
          * moved, would point against its own before has its vertices' offsets
          * halved (zeroed after FOLD_HALVINGS rounds), until none does. Each
          * zeroing round zeroes a vertex of every folded triangle and a
-         * triangle of unmoved vertices is not folded, so the rounds end. */
-        uint8_t *flag = (uint8_t *)acc;
-        for (int round = 0;; round++) {
+         * triangle of unmoved vertices is not folded, so the rounds end.
+         * After the first round (every triangle), a round looks only at the
+         * triangles with a vertex whose offset has changed: the others keep
+         * the offsets with which that round found them not folded. */
+        uint8_t *flag = (uint8_t *)acc, *changed = flag + nv;
+        const size_t capw = nt / 8 + 64;
+        uint32_t *watch = jm_alloc(mem, capw * sizeof *watch);
+        if (!watch) {
+            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
+            return 0;
+        }
+        memset(changed, 0, nv);
+        size_t nw = 0;
+        for (int round = 0, all = 1;; round++) {
             memset(flag, 0, nv);
-            size_t folded = 0;
-            for (size_t t = 0; t < nt; t++) {
-                const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-                float p[3][3], q[3][3];
-                for (int k = 0; k < 3; k++)
-                    for (int a = 0; a < 3; a++) {
-                        p[k][a] = P[3 * (size_t)vi[k] + a];
-                        q[k][a] = p[k][a] + D[vi[k]] * N[3 * (size_t)vi[k] + a];
-                    }
-                float u[3], v[3], w[3], x[3];
-                for (int a = 0; a < 3; a++) {
-                    u[a] = p[1][a] - p[0][a], v[a] = p[2][a] - p[0][a];
-                    w[a] = q[1][a] - q[0][a], x[a] = q[2][a] - q[0][a];
+            size_t folded = 0, fresh = 0;
+            const size_t count = all ? nt : nw;
+            for (size_t j = 0; j < count; j++) {
+                const uint32_t *v = idx + 3 * (all ? j : watch[j]);
+                if (!folds(P, N, D, v)) continue;
+                for (int k = 0; k < 3; k++) {
+                    fresh += !changed[v[k]];
+                    flag[v[k]] = changed[v[k]] = 1;
                 }
-                const float c0[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-                const float c1[3] = {w[1] * x[2] - w[2] * x[1], w[2] * x[0] - w[0] * x[2], w[0] * x[1] - w[1] * x[0]};
-                if (c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f) {
-                    flag[vi[0]] = flag[vi[1]] = flag[vi[2]] = 1;
-                    folded++;
-                }
+                folded++;
             }
             if (!folded) break;
             for (size_t i = 0; i < nv; i++)
                 if (flag[i]) D[i] = round < FOLD_HALVINGS ? 0.5f * D[i] : 0.0f;
+            if (!fresh) continue;
+            nw = 0, all = 0; /* too many to list: every triangle */
+            for (size_t t = 0; t < nt && !all; t++)
+                if (changed[idx[3 * t]] | changed[idx[3 * t + 1]] | changed[idx[3 * t + 2]]) {
+                    if (nw == capw) all = 1;
+                    else watch[nw++] = (uint32_t)t;
+                }
         }
+        jm_free(mem, watch, capw * sizeof *watch);
         for (size_t i = 0; i < nv; i++)
             for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
