@@ -1,5 +1,6 @@
 /* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
 #include "block.h"
+#include "cull.h"
 #include "metavertex.h"
 #include "tables.h"
 #include <math.h>
@@ -326,6 +327,12 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t0 = jm_now_ms();
     if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
+    if (c->cull && jm_sph_block_outside(g, c, &s->hood, lo, hi)) {
+        /* proven to hold no inside node (cull.c): sampling would find none
+         * and return here below, with nothing to mesh */
+        out->t_field = jm_now_ms() - t0;
+        return;
+    }
     size_t fs;
     const float *fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad, &fs);
     const float thr = c->threshold;

@@ -75,6 +75,7 @@ typedef struct jm_config {
     float mv_reach2;   /* no piece exceeds threshold - mv_tau farther than this (squared) from its particle */
     int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
     int exact;         /* metasphere: settle every vertex on all the pieces near it */
+    int cull;          /* sph isotropic: skip blocks proven outside (cull.c) */
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);
