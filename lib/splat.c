@@ -74,25 +74,33 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
         }                                                                                                  \
     }                                                                                                      \
 
-/* The partial sums (see jm_sph_partial): each particle's terms only at the
- * nodes within JM_PART_REACH of its support, exactly the lanes [ap, bp) of
- * each row (ROWP adds +0 to the other lanes of its steps). The rows, row
- * offsets and lanes are those SAMPLE_BODY computes the same terms for:
- * dyz2 is formed alike, and halfp <= half (rounding is monotone), so
- * [ap, bp) lies within SAMPLE_BODY's [a, b). */
+/* The partial sums (see jm_sph_partial): each particle's terms only on the
+ * rows within JM_PART_REACH of its support (dyz2 < Rw2) and there on the
+ * window of nodes [ic - K, ic + K] around its own, ic = floor(cx + 1/2),
+ * clipped to [i0, i1) (ROWP adds +0 to the other lanes of its steps). These
+ * are (particle, node) pairs SAMPLE_BODY computes the same terms for: the
+ * same rows, dyz2 formed alike, and [ic - K, ic + K] within its run
+ * [a, b): Rw2 <= R2 - ((K + 0.53) h)^2 makes the row's half chord
+ * half = fl(sqrt(R2 - dyz2)) / h >= (K + 0.52)(1 - 4u) > K + 0.5 + 1e-4,
+ * and |cx - ic| <= 1/2 + 1e-5 (cx is within 1e3 of 0, its ulp below
+ * 1e-4), so fl(cx - half) < ic - K and fl(cx + half) > ic + K: a <= ic - K
+ * and b >= ic + K + 1. */
 #define PARTIAL_BODY(ROWP)                                                                                 \
     const int ns = JM_PAD(n);                                                                              \
-    const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
-    const float Rp = JM_PART_REACH * R, Rp2 = Rp * Rp;                                                     \
-    (void)R2;                                                                                              \
+    const float R = c->support, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;                         \
+    const float Rp = JM_PART_REACH * R;                                                                    \
+    int K = (int)(0.65f * R * inv_h);                                                                      \
+    K = K < 0 ? 0 : (K > 7 ? 7 : K);                                                                       \
+    const float Kh = ((float)K + 0.53f) * h;                                                               \
+    const float Rw2 = fminf(Rp * Rp, R * R - Kh * Kh);                                                     \
     (void)span;                                                                                            \
     float xp[JM_PAD_MAX];                                                                                  \
     for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;                \
     size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                           \
     memset(pad, 0, (size_t)n * n * ns * sizeof *pad);                                                      \
-    const float bx0 = x[0] - Rp, bx1 = x[n - 1] + Rp, by0 = y[0] - Rp, by1 = y[n - 1] + Rp;               \
-    const float bz0 = z[0] - Rp, bz1 = z[n - 1] + Rp;                                                      \
-    for (size_t k = 0; k < cells; k++) {                                                                   \
+    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R;                   \
+    const float bz0 = z[0] - R, bz1 = z[n - 1] + R;                                                        \
+    for (size_t k = 0; k < cells && Rw2 > 0.0f; k++) {                                                     \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
             const float *q = GP(g, p);                                                                     \
             if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue; \
@@ -104,18 +112,16 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
             node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);                                          \
             if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;                                                \
             const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
+            const int ic = ifloor(cx + 0.5f);                                                              \
+            const int a = ic - K > i0 ? ic - K : i0, b = ic + K + 1 < i1 ? ic + K + 1 : i1;                \
+            if (a >= b) continue;                                                                          \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
-                if (dz2 >= Rp2) continue;                                                                  \
+                if (dz2 >= Rw2) continue;                                                                  \
                 float *slab = pad + (size_t)kk * n * ns;                                                   \
                 for (int jj = j0; jj < j1; jj++) {                                                         \
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
-                    if (dyz2 >= Rp2) continue;                                                             \
-                    float halfp = sqrtf(Rp2 - dyz2) * inv_h;                                               \
-                    int a = iceil(cx - halfp), b = ifloor(cx + halfp) + 1;                                 \
-                    a = a > i0 ? a : i0;                                                                   \
-                    b = b < i1 ? b : i1;                                                                   \
-                    if (a >= b) continue;                                                                  \
+                    if (dyz2 >= Rw2) continue;                                                             \
                     ROWP(slab + (size_t)jj * ns, xp, a, b, qx, dyz2, inv, wgt);                            \
                 }                                                                                          \
             }                                                                                              \
