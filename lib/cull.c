@@ -38,11 +38,12 @@
  * 3. Nodes proven inside (jm_sph_partial, jm_sph_spans). The partial sum of
  *    a node adds, in the same order, the same terms (bit for bit: the same
  *    operations on the same operands) for a subset of the (particle, node)
- *    pairs the full sum has (splat.c: the same rows and a part [ap, bp) of
- *    each run). By induction over the full order, the partial sum never
- *    exceeds the full one: a shared term goes to fl(p + t) <= fl(f + t)
- *    (rounding is monotone), a skipped term leaves p <= f <= fl(f + t)
- *    (t >= 0). So a partial sum above the threshold proves the node inside.
+ *    pairs the full sum has (splat.c, above PARTIAL_BODY: some of the same
+ *    rows, and on each a window inside the run). By induction over the full
+ *    order, the partial sum never exceeds the full one: a shared term goes
+ *    to fl(p + t) <= fl(f + t) (rounding is monotone), a skipped term leaves
+ *    p <= f <= fl(f + t) (t >= 0). So a partial sum above the threshold
+ *    proves the node inside.
  *
  * 4. No crossing skipped. A cube holds a crossing only if its corners
  *    differ. A cube whose 8 corners are all proven inside holds none. Any
