@@ -245,14 +245,15 @@ __attribute__((target("avx512f"))) INLINE void rowp_avx512(float *row, const flo
     const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
     const __m512 quarter = _mm512_set1_ps(0.25f);
     for (int i = a; i < b; i += 16) {
+        /* masked loads: a window may end within 16 lanes of its row's end */
         const __mmask16 m = b - i >= 16 ? (__mmask16)0xFFFF : (__mmask16)((1u << (b - i)) - 1u);
-        __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(xp + i), vq);
+        __m512 dx = _mm512_sub_ps(_mm512_maskz_loadu_ps(m, xp + i), vq);
         __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
         __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
         __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
         __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
                                  _mm512_mul_ps(_mm512_mul_ps(B, B), B));
-        _mm512_mask_storeu_ps(row + i, m, _mm512_add_ps(_mm512_loadu_ps(row + i), _mm512_mul_ps(vw, w)));
+        _mm512_mask_storeu_ps(row + i, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row + i), _mm512_mul_ps(vw, w)));
     }
 }
 
