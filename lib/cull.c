@@ -53,7 +53,9 @@
  *    one node each way, so every corner of every such cube is in a span and
  *    sampled, and every node outside the spans is proven inside. The inside
  *    flags of all nodes and the values at every corner of every cube that
- *    holds a crossing are those of the full sampling.
+ *    holds a crossing are those of the full sampling. With no span at all
+ *    every node is inside, and block.c returns with nothing meshed, as it
+ *    does when the full sampling finds every node inside.
  *
  * 5. The same bits. With spans, splat.c runs the same particle loop in the
  *    same order with the same filters and runs; it computes only a part
