@@ -1,6 +1,8 @@
 /* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
 #include "block.h"
+#include "cull.h"
 #include "metavertex.h"
+#include "splat.h"
 #include "tables.h"
 #include <math.h>
 #include <stdlib.h>
@@ -13,7 +15,8 @@
 size_t jm_scratch_bytes(int B)
 {
     size_t n = (size_t)B + 1, nn = n * n * n;
-    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float);
+    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float) +
+           n * n * JM_PAD(n) * sizeof(float) + JM_CULL_SPAN_BYTES(n);
 }
 
 int jm_scratch_init(jm_scratch *s, int B)
@@ -29,7 +32,12 @@ int jm_scratch_init(jm_scratch *s, int B)
     s->vt = malloc(nn * 7 * sizeof *s->vt);
     s->touched = malloc(nn * 7 * sizeof *s->touched);
     s->x = malloc(3 * n * sizeof(float));
-    if (!s->f || !s->in || !s->win || !s->pad || !s->rowstate || !s->vt || !s->touched || !s->x) { jm_scratch_free(s); return 0; }
+    s->part = malloc(n * n * JM_PAD(n) * sizeof *s->part);
+    s->span = malloc(JM_CULL_SPAN_BYTES(n));
+    if (!s->f || !s->in || !s->win || !s->pad || !s->rowstate || !s->vt || !s->touched || !s->x || !s->part || !s->span) {
+        jm_scratch_free(s);
+        return 0;
+    }
     s->y = s->x + n;
     s->z = s->y + n;
     memset(s->vt, 0xff, nn * 7 * sizeof *s->vt);
@@ -51,6 +59,8 @@ void jm_scratch_free(jm_scratch *s)
     free(s->order);
     free(s->an_list.buf);
     jm_probe_free(&s->probe);
+    free(s->part);
+    free(s->span);
     memset(s, 0, sizeof *s);
 }
 
@@ -340,15 +350,51 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t0 = jm_now_ms();
     if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
+    size_t inner = 0;
+    if (c->cull && jm_sph_block_outside(g, c, &s->hood, lo, hi, &inner)) {
+        /* proven to hold no inside node (cull.c): sampling would find none
+         * and return here below, with nothing to mesh */
+        out->t_field = jm_now_ms() - t0;
+        return;
+    }
     size_t fs;
-    const float *fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad, &fs);
+    const float *fv;
+    const uint8_t *span = NULL;
+    /* a block about full of particles at the rest spacing 2r (0.85 of
+     * (B h / 2r)^3 or more) is mostly inside the fluid */
+    const double fill = (double)inner * 8.0 * c->r * c->r * c->r;
+    const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    if (c->cull && fill >= 0.85 * vol) {
+        /* the isotropic SPH field, a block inside the fluid: partial sums
+         * prove most nodes inside; only the nodes next to the others are
+         * sampled (cull.c) */
+        jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
+        size_t keep = jm_sph_spans(s->part, n, c->threshold, s->span);
+        if (keep == 0) {
+            out->t_field = jm_now_ms() - t0;
+            return; /* every node inside */
+        }
+        if (keep < (size_t)n * n * n) span = s->span;
+        jm_sph_sample(g, c, &s->hood, s->x, s->y, s->z, n, span, s->pad);
+        fv = s->pad;
+        fs = JM_PAD(n);
+    } else {
+        fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad, &fs);
+    }
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
     for (size_t r = 0; r < (size_t)n * n; r++) {
         const float *restrict f = fv + r * fs;
         uint8_t *restrict in = s->in + r * (size_t)n;
-        for (int i = 0; i < n; i++) {
+        int i0 = 0, i1 = n;
+        if (span) {
+            i0 = span[2 * r];
+            i1 = span[2 * r + 1];
+            memset(in, 1, (size_t)n); /* off the span: proven inside */
+            inside += (size_t)(n - (i1 - i0));
+        }
+        for (int i = i0; i < i1; i++) {
             uint8_t v = f[i] > thr;
             in[i] = v;
             inside += v;

@@ -41,6 +41,8 @@ typedef struct jm_scratch {
     size_t cap_order;
     jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
     jm_probe probe;           /* metasphere: the vertices' edges, checked on every piece */
+    float *part;              /* sph culling: (B+1)^2 * JM_PAD(B+1) partial sums (splat.h) */
+    uint8_t *span;            /* sph culling: 2 per node row, the nodes to sample (cull.h) */
 } jm_scratch;
 
 typedef struct jm_block_set {

@@ -226,7 +226,7 @@ const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood
         return pad;
     }
     if (c->field == JM_FIELD_SPH) {
-        jm_sph_sample(g, c, hood, x, y, z, n, pad);
+        jm_sph_sample(g, c, hood, x, y, z, n, NULL, pad);
         *out_stride = JM_PAD(n);
         return pad;
     }

@@ -362,6 +362,18 @@ typedef struct jm_params {
                                  are always checked against every piece now
                                  (see Vertex placement); kept for callers
                                  that set it */
+    int no_culling;         /**< sph: 1 samples every node of every block
+                                 (for tests and measurement: the mesh is the
+                                 same bytes). By default a block where an
+                                 upper bound of the field (each particle's
+                                 kernel at its nearest distance to the block,
+                                 with float rounding slack) stays below the
+                                 threshold is skipped, and in blocks inside
+                                 the fluid nodes whose partial sums (the
+                                 nearer particles' terms) already exceed it
+                                 are not sampled unless next to a node that
+                                 may be outside: no cube holding a crossing
+                                 loses a sample */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */

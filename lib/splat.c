@@ -26,7 +26,7 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
  * pad, whose rows are JM_PAD(n) >= n + 7 long, in runs of 8 nodes from the
  * start of the support's chord: one or two vector steps per row (the lanes
  * past the chord add exact zeros: the kernel vanishes beyond its support). */
-#define SAMPLE_BODY(ROW)                                                                                   \
+#define SAMPLE_BODY(ROW, SPANNED)                                                                          \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
     float xp[JM_PAD_MAX];                                                                                  \
@@ -51,6 +51,8 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
                 float *slab = pad + (size_t)kk * n * ns;                                                   \
                 for (int jj = j0; jj < j1; jj++) {                                                         \
+                    const uint8_t *sp = SPANNED ? span + 2 * ((size_t)kk * n + jj) : NULL;                 \
+                    if (SPANNED && sp[0] >= sp[1]) continue;                                               \
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
                     if (dyz2 >= R2) continue;                                                              \
                     float half = sqrtf(R2 - dyz2) * inv_h;                                                 \
@@ -58,17 +60,81 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
                     a = a > i0 ? a : i0;                                                                   \
                     b = b < i1 ? b : i1;                                                                   \
                     if (a >= b) continue;                                                                  \
-                    ROW(slab + (size_t)jj * ns, xp, a, a + ((b - a + 7) & ~7), qx, dyz2, inv, wgt);             \
+                    int e = a + ((b - a + 7) & ~7);                                                        \
+                    if (SPANNED) {                                                                         \
+                        /* the part of the run [a, e) over the span, in whole steps of 8 from a */         \
+                        int lo = a > sp[0] ? a : sp[0], hi = e < sp[1] ? e : sp[1];                        \
+                        if (lo >= hi) continue;                                                            \
+                        a += (lo - a) & ~7;                                                                \
+                        e = a + ((hi - a + 7) & ~7);                                                       \
+                    }                                                                                      \
+                    ROW(slab + (size_t)jj * ns, xp, a, e, qx, dyz2, inv, wgt);                             \
                 }                                                                                          \
             }                                                                                              \
         }                                                                                                  \
     }                                                                                                      \
 
+/* The partial sums (see jm_sph_partial): each particle's terms only on the
+ * rows within JM_PART_REACH of its support (dyz2 < Rw2) and there on the
+ * window of nodes [ic - K, ic + K] around its own, ic = floor(cx + 1/2),
+ * clipped to [i0, i1) (ROWP adds +0 to the other lanes of its steps). These
+ * are (particle, node) pairs SAMPLE_BODY computes the same terms for: the
+ * same rows, dyz2 formed alike, and [ic - K, ic + K] within its run
+ * [a, b): Rw2 <= R2 - ((K + 0.53) h)^2 makes the row's half chord
+ * half = fl(sqrt(R2 - dyz2)) / h >= (K + 0.52)(1 - 4u) > K + 0.5 + 1e-4,
+ * and |cx - ic| <= 1/2 + 1e-5 (cx is within 1e3 of 0, its ulp below
+ * 1e-4), so fl(cx - half) < ic - K and fl(cx + half) > ic + K: a <= ic - K
+ * and b >= ic + K + 1. */
+#define PARTIAL_BODY(ROWP)                                                                                 \
+    const int ns = JM_PAD(n);                                                                              \
+    const float R = c->support, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;                         \
+    const float Rp = JM_PART_REACH * R;                                                                    \
+    int K = (int)(0.65f * R * inv_h);                                                                      \
+    K = K < 0 ? 0 : (K > 7 ? 7 : K);                                                                       \
+    const float Kh = ((float)K + 0.53f) * h;                                                               \
+    const float Rw2 = fminf(Rp * Rp, R * R - Kh * Kh);                                                     \
+    (void)span;                                                                                            \
+    float xp[JM_PAD_MAX];                                                                                  \
+    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;                \
+    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                           \
+    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);                                                      \
+    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R;                   \
+    const float bz0 = z[0] - R, bz1 = z[n - 1] + R;                                                        \
+    for (size_t k = 0; k < cells && Rw2 > 0.0f; k++) {                                                     \
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
+            const float *q = GP(g, p);                                                                     \
+            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue; \
+            if (g->isolated[p]) continue;                                                                  \
+            const float wgt = g->weight[p];                                                                \
+            int i0, i1, j0, j1, k0, k1;                                                                    \
+            node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);                                          \
+            node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);                                          \
+            node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);                                          \
+            if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;                                                \
+            const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
+            const int ic = ifloor(cx + 0.5f);                                                              \
+            const int a = ic - K > i0 ? ic - K : i0, b = ic + K + 1 < i1 ? ic + K + 1 : i1;                \
+            if (a >= b) continue;                                                                          \
+            for (int kk = k0; kk < k1; kk++) {                                                             \
+                float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
+                if (dz2 >= Rw2) continue;                                                                  \
+                float *slab = pad + (size_t)kk * n * ns;                                                   \
+                for (int jj = j0; jj < j1; jj++) {                                                         \
+                    float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
+                    if (dyz2 >= Rw2) continue;                                                             \
+                    ROWP(slab + (size_t)jj * ns, xp, a, b, qx, dyz2, inv, wgt);                            \
+                }                                                                                          \
+            }                                                                                              \
+        }                                                                                                  \
+    }
+
 #define SAMPLE_ARGS                                                                                       \
     const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
-        int n, float *pad
+        int n, const uint8_t *span, float *pad
 
-static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c) }
+static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 0) }
+static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 1) }
+static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(row_c) } /* exact lanes [a, b) */
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -104,30 +170,147 @@ __attribute__((target("avx2"))) INLINE void row_avx2(float *row, const float *xp
     }
 }
 
-static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2) }
-__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2) }
+/* AVX-512: runs of 16 nodes, and a last run of 8 in AVX (runs are whole
+ * multiples of 8 long): the same lanes as AVX2, each with the same
+ * operations, so the same bits */
+__attribute__((target("avx512f"))) INLINE void row_avx512(float *row, const float *xp, int a, int b, float qx,
+                                                          float dyz2, float inv, float wgt)
+{
+    const __m512 vq = _mm512_set1_ps(qx), vd = _mm512_set1_ps(dyz2), vi = _mm512_set1_ps(inv), vw = _mm512_set1_ps(wgt);
+    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
+    const __m512 quarter = _mm512_set1_ps(0.25f);
+    int i = a;
+    for (; i + 16 <= b; i += 16) {
+        __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(xp + i), vq);
+        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
+        __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
+        __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
+        __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
+                                 _mm512_mul_ps(_mm512_mul_ps(B, B), B));
+        _mm512_storeu_ps(row + i, _mm512_add_ps(_mm512_loadu_ps(row + i), _mm512_mul_ps(vw, w)));
+    }
+    if (i < b) {
+        const __m256 hq = _mm256_set1_ps(qx), hd = _mm256_set1_ps(dyz2), hi = _mm256_set1_ps(inv), hw = _mm256_set1_ps(wgt);
+        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), hq);
+        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), hd)), hi);
+        __m256 A = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), q), _mm256_setzero_ps());
+        __m256 B = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), q), _mm256_setzero_ps());
+        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.25f), A), A), A),
+                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(hw, w)));
+    }
+}
+
+/* Partial rows: the lanes [a, b) only, the others of each step adding +0
+ * (a sum of terms >= 0 plus +0 is itself) */
+INLINE void rowp_sse2(float *row, const float *xp, int a, int b, float qx, float dyz2, float inv, float wgt)
+{
+    const __m128 vq = _mm_set1_ps(qx), vd = _mm_set1_ps(dyz2), vi = _mm_set1_ps(inv), vw = _mm_set1_ps(wgt);
+    const __m128 two = _mm_set1_ps(2.0f), one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps(), quarter = _mm_set1_ps(0.25f);
+    const __m128i vb = _mm_set1_epi32(b), iota = _mm_setr_epi32(0, 1, 2, 3);
+    for (int i = a; i < b; i += 4) {
+        __m128 dx = _mm_sub_ps(_mm_loadu_ps(xp + i), vq);
+        __m128 q = _mm_mul_ps(_mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), vd)), vi);
+        __m128 A = _mm_max_ps(_mm_sub_ps(two, q), zero);
+        __m128 B = _mm_max_ps(_mm_sub_ps(one, q), zero);
+        __m128 w = _mm_sub_ps(_mm_mul_ps(_mm_mul_ps(_mm_mul_ps(quarter, A), A), A), _mm_mul_ps(_mm_mul_ps(B, B), B));
+        __m128 m = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_add_epi32(_mm_set1_epi32(i), iota), vb));
+        _mm_storeu_ps(row + i, _mm_add_ps(_mm_loadu_ps(row + i), _mm_and_ps(m, _mm_mul_ps(vw, w))));
+    }
+}
+
+__attribute__((target("avx2"))) INLINE void rowp_avx2(float *row, const float *xp, int a, int b, float qx,
+                                                      float dyz2, float inv, float wgt)
+{
+    const __m256 vq = _mm256_set1_ps(qx), vd = _mm256_set1_ps(dyz2), vi = _mm256_set1_ps(inv), vw = _mm256_set1_ps(wgt);
+    const __m256 two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
+    const __m256 quarter = _mm256_set1_ps(0.25f);
+    const __m256i vb = _mm256_set1_epi32(b), iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (int i = a; i < b; i += 8) {
+        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vq);
+        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), vd)), vi);
+        __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero);
+        __m256 B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
+        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
+                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        __m256 m = _mm256_castsi256_ps(_mm256_cmpgt_epi32(vb, _mm256_add_epi32(_mm256_set1_epi32(i), iota)));
+        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_and_ps(m, _mm256_mul_ps(vw, w))));
+    }
+}
+
+__attribute__((target("avx512f"))) INLINE void rowp_avx512(float *row, const float *xp, int a, int b, float qx,
+                                                           float dyz2, float inv, float wgt)
+{
+    const __m512 vq = _mm512_set1_ps(qx), vd = _mm512_set1_ps(dyz2), vi = _mm512_set1_ps(inv), vw = _mm512_set1_ps(wgt);
+    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
+    const __m512 quarter = _mm512_set1_ps(0.25f);
+    for (int i = a; i < b; i += 16) {
+        /* masked loads: a window may end within 16 lanes of its row's end */
+        const __mmask16 m = b - i >= 16 ? (__mmask16)0xFFFF : (__mmask16)((1u << (b - i)) - 1u);
+        __m512 dx = _mm512_sub_ps(_mm512_maskz_loadu_ps(m, xp + i), vq);
+        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
+        __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
+        __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
+        __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
+                                 _mm512_mul_ps(_mm512_mul_ps(B, B), B));
+        _mm512_mask_storeu_ps(row + i, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row + i), _mm512_mul_ps(vw, w)));
+    }
+}
+
+static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 0) }
+static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 1) }
+static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2) }
+__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 0) }
+__attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 1) }
+__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2) }
+__attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(row_avx512, 0) }
+__attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx512, 1) }
+__attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx512) }
 
 typedef void (*sample_fn)(SAMPLE_ARGS);
-static sample_fn chosen;
+static sample_fn chosen[3]; /* every node, spans, partial sums */
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 /* JM_SPLAT_VARIANT (a build option for tests): 0 the fastest the CPU runs,
- * 1 plain C, 2 SSE2 */
+ * 1 plain C, 2 SSE2, 3 AVX2 (where the CPU has it) */
 #ifndef JM_SPLAT_VARIANT
 #define JM_SPLAT_VARIANT 0
 #endif
 static void choose(void)
 {
     __builtin_cpu_init();
-    chosen = __builtin_cpu_supports("avx2") ? sample_avx2 : sample_sse2;
-    if (JM_SPLAT_VARIANT == 1) chosen = sample_c;
-    if (JM_SPLAT_VARIANT == 2) chosen = sample_sse2;
+    static const sample_fn c_fns[3] = {sample_c, sample_c_span, partial_c};
+    static const sample_fn sse2[3] = {sample_sse2, sample_sse2_span, partial_sse2};
+    static const sample_fn avx2[3] = {sample_avx2, sample_avx2_span, partial_avx2};
+    static const sample_fn avx512[3] = {sample_avx512, sample_avx512_span, partial_avx512};
+    const sample_fn *f = __builtin_cpu_supports("avx2") ? avx2 : sse2;
+    if (__builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT != 3) f = avx512;
+    if (JM_SPLAT_VARIANT == 1) f = c_fns;
+    if (JM_SPLAT_VARIANT == 2) f = sse2;
+    memcpy(chosen, f, sizeof chosen);
 }
 
 void jm_sph_sample(SAMPLE_ARGS)
 {
     pthread_once(&once, choose);
-    chosen(g, c, hood, x, y, z, n, pad);
+    chosen[span != NULL](g, c, hood, x, y, z, n, span, pad);
+}
+
+void jm_sph_partial(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
+                    const float *z, int n, float *out)
+{
+    pthread_once(&once, choose);
+    chosen[2](g, c, hood, x, y, z, n, NULL, out);
 }
 #else
-void jm_sph_sample(SAMPLE_ARGS) { sample_c(g, c, hood, x, y, z, n, pad); }
+void jm_sph_sample(SAMPLE_ARGS)
+{
+    if (span) sample_c_span(g, c, hood, x, y, z, n, span, pad);
+    else sample_c(g, c, hood, x, y, z, n, span, pad);
+}
+
+void jm_sph_partial(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
+                    const float *z, int n, float *out)
+{
+    partial_c(g, c, hood, x, y, z, n, NULL, out);
+}
 #endif

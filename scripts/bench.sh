@@ -149,6 +149,20 @@ if [ -x "$PEER" ]; then
     r=$((r + 1))
   done
   echo "$PEER <block100k.xyz> -r 0.025 -s 0.0125 --threads 1|2 [--mesh-cleanup --mesh-smoothing-weights --mesh-smoothing-iters 25 --normals --normals-smoothing-iters 10]" >>"$OUT/commands.sh"
+  # the 1M block the same way (one timed jetmesh run per round)
+  "$J" generate block 1000000 -q -o "$T/block1m.xyz" || status=1
+  echo "== peer: $PEER ($peer_build) beside $J bench, 1M block, $PROUNDS rounds"
+  r=1
+  while [ $r -le "$PROUNDS" ]; do
+    for t in 1 2; do
+      "$PEER" "$T/block1m.xyz" -r 0.025 -s 0.0125 --threads $t >"$PEER_DIR/ss1m_t${t}_$r.json" 2>>"$PEER_DIR/log" || status=1
+      # shellcheck disable=SC2086
+      "$J" bench "$T/block1m.xyz" $SPH --method mc -j $t --min-time 0 --repeat 1 --json-out "$PEER_DIR/jm1m_t${t}_$r.json" >/dev/null || status=1
+    done
+    r=$((r + 1))
+  done
+  rm -f "$T/block1m.xyz"
+  echo "$PEER <block1m.xyz> -r 0.025 -s 0.0125 --threads 1|2" >>"$OUT/commands.sh"
 else
   echo "== peer: skipped: $PEER is missing (set JETMESH_SHARED)"
 fi
@@ -225,6 +239,8 @@ function peerRuns(prefix, pick) {
 const ssTotal = (t) => median(peerRuns("ss_t" + t, (d) => d.total_s * 1e3));
 const jmTotal = (t) => median(peerRuns("jm_t" + t, (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
 const ssPost = median(peerRuns("ss_post", (d) => d.post_s * 1e3));
+const ss1m = (t) => median(peerRuns("ss1m_t" + t, (d) => d.total_s * 1e3));
+const jm1m = (t) => median(peerRuns("jm1m_t" + t, (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
 const jmPostTotal = median(peerRuns("jm_post", (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
 const jmPost = jmPostTotal != null && jmTotal(1) != null ? jmPostTotal - jmTotal(1) : null;
 
@@ -291,6 +307,11 @@ row("GLB write of the 1M mesh ≤ 15 % of total (write / (mesh + write), 2 threa
     w2 != null ? `${f(100 * w2, 1)} % (${ms(b1m2.ms.write.median)} ms for ${mb(b1m2.write.bytes)} MB; 1 thread: ${w1 != null ? f(100 * w1, 1) : "–"} %)` : "–",
     w2 != null ? w2 <= 0.15 : null);
 if (peerBuild) {
+  for (const [name, lim, ss, jm] of [["100k", 0.3, ssTotal, jmTotal], ["1M", 0.25, ss1m, jm1m]]) {
+    const r1 = ss(1) && jm(1) ? jm(1) / ss(1) : null, r2 = ss(2) && jm(2) ? jm(2) / ss(2) : null;
+    row(`${name} block, sph mc: jetmesh ≤ ${lim}× splashsurf's time at 1 and at 2 threads (side by side, medians)`,
+        r1 != null && r2 != null ? `${f(r1, 2)}× / ${f(r2, 2)}×` : "–", r1 != null && r2 != null ? r1 <= lim && r2 <= lim : null);
+  }
   const add = jmPost != null && jmTotal(1) ? jmPost / jmTotal(1) : null;
   row("100k block, 1 thread: --smooth 25 --smooth-normals 10 adds ≤ 25 % (side by side, medians)",
       add != null ? `+${f(100 * add, 1)} % (${f(jmPost, 1)} ms on ${f(jmTotal(1), 1)} ms)` : "–", add != null ? add <= 0.25 : null);
@@ -314,10 +335,12 @@ if (!peerBuild) {
     "--normals-smoothing-iters 10` (its post_s) against what `--smooth 25 --smooth-normals 10` adds to " +
     "jetmesh's total.");
   p();
-  p("| 100k block | splashsurf | jetmesh | ratio |");
+  p("| block | splashsurf | jetmesh | ratio |");
   p("|---|---|---|---|");
   for (const t of [1, 2])
-    p(`| ${t} thread${t > 1 ? "s" : ""} | ${f(ssTotal(t), 1)} | ${f(jmTotal(t), 1)} | ${ssTotal(t) && jmTotal(t) ? f(jmTotal(t) / ssTotal(t), 2) : "–"} |`);
+    p(`| 100k, ${t} thread${t > 1 ? "s" : ""} | ${f(ssTotal(t), 1)} | ${f(jmTotal(t), 1)} | ${ssTotal(t) && jmTotal(t) ? f(jmTotal(t) / ssTotal(t), 2) : "–"} |`);
+  for (const t of [1, 2])
+    p(`| 1M, ${t} thread${t > 1 ? "s" : ""} (one jetmesh run a round) | ${f(ss1m(t), 1)} | ${f(jm1m(t), 1)} | ${ss1m(t) && jm1m(t) ? f(jm1m(t) / ss1m(t), 2) : "–"} |`);
   p(`| post-processing, 1 thread | ${f(ssPost, 1)} | ${f(jmPost, 1)} | ${ssPost && jmPost ? f(jmPost / ssPost, 2) : "–"} |`);
   p();
   p("The figures an earlier report quoted for splashsurf (10.2 s / 6.3 s at 1M particles) came from a " +

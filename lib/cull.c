@@ -1,0 +1,158 @@
+/* cull.c - SPH sampling kept near the surface: blocks proven outside skipped, nodes proven inside by partial sums not sampled.
+ *
+ * Why no crossing is ever skipped and every sampled node keeps its bits.
+ *
+ * 1. What a node holds. splat.c gives node x the float sum, in the hood's
+ *    particle order, of the terms t_p = fl(wgt_p * w_p), w_p the float cubic
+ *    0.25 A^3 - B^3 (A = 2 - q, B = 1 - q, clamped at 0) at
+ *    q_p = fl(fl(sqrt(dx^2 + dy^2 + dz^2)) * fl(1 / sph_h)), over particles
+ *    that are not isolated, each lane of a row computed alone. Every term is
+ *    >= 0: wgt_p = 1 / (a sum >= 1) > 0, and A >= 2 B makes 0.25 A^3 >= 2 B^3
+ *    (a few ulps of rounding cannot undo a factor 2).
+ *
+ * 2. Blocks proven outside (jm_sph_block_outside). The block's nodes are the
+ *    floats x[0..B], y[0..B], z[0..B], increasing: all lie in the box
+ *    [lo, hi] of its first and last ones. Let dmin_p be the distance from
+ *    particle p to that box (in double from the float coordinates); every
+ *    node x has |x - q_p| >= dmin_p. The real kernel W(q) = 0.25 (2-q)+^3 -
+ *    (1-q)+^3 is non-increasing and 1-Lipschitz. With u = 2^-24, the float
+ *    q_p is at least (1 - 8u) times the real |x - q_p| / sph_h (at most 8
+ *    relative roundings), and the float kernel is within 10u of W at the
+ *    float q (terms <= 2, three roundings each). So w_p <= W(dmin_p / sph_h)
+ *    + 26u and t_p <= wgt_p (W(dmin_p / sph_h) + 26u)(1 + u). A particle
+ *    with dmin_p >= R (1 + 1e-5), R = 2 sph_h, has a float q > 2 at every
+ *    node: w_p = 0 exactly, and adding +0 changes no sum. Over the m other
+ *    ("near") particles, a float sum of non-negative terms is at most their
+ *    exact sum times (1 + u)^(m-1) <= 1 + 1.01 m u (m u < 0.01). Hence every
+ *    node holds
+ *        v <= (U + 26u S)(1 + u)(1 + 1.01 m u)
+ *          <= (U + 4e-6 S)(1 + 1.2e-7 (m + 8)),
+ *    U = sum over the near p of wgt_p W(dmin_p / sph_h), S = the sum of
+ *    their wgt_p (26u < 1.6e-6 and u + 1.02 m u < 1.2e-7 (m + 1); the double
+ *    arithmetic computing dmin and U errs by ~1e-16 relative, far inside
+ *    that slack). When the right side is below the threshold no node is
+ *    inside (v > threshold). block.c, finding no inside node in a block,
+ *    returns before looking at any cube; a proven block returns at that same
+ *    point with the same empty result. (m >= 1e5: never skipped.)
+ *
+ * 3. Nodes proven inside (jm_sph_partial, jm_sph_spans). The partial sum of
+ *    a node adds, in the same order, the same terms (bit for bit: the same
+ *    operations on the same operands) for a subset of the (particle, node)
+ *    pairs the full sum has (splat.c, above PARTIAL_BODY: some of the same
+ *    rows, and on each a window inside the run). By induction over the full
+ *    order, the partial sum never exceeds the full one: a shared term goes
+ *    to fl(p + t) <= fl(f + t) (rounding is monotone), a skipped term leaves
+ *    p <= f <= fl(f + t) (t >= 0). So a partial sum above the threshold
+ *    proves the node inside.
+ *
+ * 4. No crossing skipped. A cube holds a crossing only if its corners
+ *    differ. A cube whose 8 corners are all proven inside holds none. Any
+ *    other cube has a corner u not proven, and each of its corners lies
+ *    within one node of u on every axis; jm_sph_spans gives each row the
+ *    hull of the unproven nodes of it and its 8 neighbour rows, widened by
+ *    one node each way, so every corner of every such cube is in a span and
+ *    sampled, and every node outside the spans is proven inside. The inside
+ *    flags of all nodes and the values at every corner of every cube that
+ *    holds a crossing are those of the full sampling. With no span at all
+ *    every node is inside, and block.c returns with nothing meshed, as it
+ *    does when the full sampling finds every node inside.
+ *
+ * 5. The same bits. With spans, splat.c runs the same particle loop in the
+ *    same order with the same filters and runs; it computes only a part
+ *    [s, t) of each run [a, e) covering the run's nodes inside the row's
+ *    span, with s = a (mod 8) and t <= e. Each lane depends on its own node
+ *    alone, so each node of a span gets the same terms in the same order as
+ *    without culling: the same bits, on every SIMD path and for any thread
+ *    count (each block decides alone).
+ *
+ * Speed only (never the result): the partial pass runs on blocks about full
+ * of particles (block.c), where most nodes are inside. Measured and left
+ * out: upper bounds over sub-boxes of 4, 8 and 12 cubes for the outside
+ * (the nodes they skip are the ones few particles reach: kernel lanes -3 %,
+ * instructions +3 to +17 %); lower bounds from each kernel at its farthest
+ * point cannot prove the inside (at threshold 0.6 that bound is about 0.55
+ * over a single cube of the r/2 lattice where the field is about 1.0).
+ */
+#include "cull.h"
+#include <math.h>
+
+#define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+
+static double kernel(double q)
+{
+    double a = 2.0 - q, b = 1.0 - q;
+    a = a > 0.0 ? a : 0.0;
+    b = b > 0.0 ? b : 0.0;
+    return 0.25 * a * a * a - b * b * b;
+}
+
+int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
+                         const float hi[3], size_t *inner)
+{
+    const double thr = c->threshold, sph_h = c->sph_h, Rn = (double)c->support * (1.0 + 1e-5), Rn2 = Rn * Rn;
+    int open = thr > 0.0; /* a proof is possible (every node is >= 0) */
+    const double blo[3] = {lo[0], lo[1], lo[2]}, bhi[3] = {hi[0], hi[1], hi[2]};
+    /* a first cut: splat.c's own filter (the particles it skips add nothing) */
+    const float R = c->support;
+    const float bx0 = lo[0] - R, bx1 = hi[0] + R, by0 = lo[1] - R, by1 = hi[1] + R, bz0 = lo[2] - R, bz1 = hi[2] + R;
+    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    double U = 0.0, S = 0.0;
+    size_t m = 0, in = 0;
+    for (size_t k = 0; k < cells; k++)
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+            const float *q = GP(g, p);
+            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue;
+            if (g->isolated[p]) continue;
+            in += q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] && q[2] <= hi[2];
+            if (!open) continue;
+            double d2 = 0.0;
+            for (int a = 0; a < 3; a++) {
+                double qa = q[a], d = qa < blo[a] ? blo[a] - qa : (qa > bhi[a] ? qa - bhi[a] : 0.0);
+                d2 += d * d;
+            }
+            if (d2 >= Rn2) continue;
+            const double wgt = g->weight[p];
+            U += wgt * kernel(sqrt(d2) / sph_h);
+            S += wgt;
+            m++;
+            if (U >= thr || m >= 100000) open = 0; /* no proof possible */
+        }
+    *inner = in;
+    return open && (U + 4e-6 * S) * (1.0 + 1.2e-7 * ((double)m + 8.0)) < thr;
+}
+
+size_t jm_sph_spans(const float *part, int n, float threshold, uint8_t *span)
+{
+    const size_t ns = JM_PAD(n), rows = (size_t)n * n;
+    uint8_t lo[JM_PAD_MAX * JM_PAD_MAX], hi[JM_PAD_MAX * JM_PAD_MAX]; /* per row: the nodes not proven, [lo, hi) */
+    for (size_t r = 0; r < rows; r++) {
+        const float *p = part + r * ns;
+        int a = 0, b = n;
+        while (a < n && p[a] > threshold) a++;
+        while (b > a && p[b - 1] > threshold) b--;
+        lo[r] = (uint8_t)a;
+        hi[r] = (uint8_t)b;
+    }
+    size_t nodes = 0;
+    for (int k = 0; k < n; k++)
+        for (int j = 0; j < n; j++) {
+            int a = n, b = 0;
+            for (int dk = -1; dk <= 1; dk++)
+                for (int dj = -1; dj <= 1; dj++) {
+                    int kk = k + dk, jj = j + dj;
+                    if (kk < 0 || kk >= n || jj < 0 || jj >= n) continue;
+                    size_t r = (size_t)kk * n + jj;
+                    if (lo[r] >= hi[r]) continue;
+                    if (lo[r] - 1 < a) a = lo[r] - 1;
+                    if (hi[r] + 1 > b) b = hi[r] + 1;
+                }
+            if (a < 0) a = 0;
+            if (b > n) b = n;
+            if (a >= b) a = b = 0;
+            uint8_t *sp = span + 2 * ((size_t)k * n + j);
+            sp[0] = (uint8_t)a;
+            sp[1] = (uint8_t)b;
+            nodes += (size_t)(b - a);
+        }
+    return nodes;
+}
