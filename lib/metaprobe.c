@@ -27,39 +27,53 @@
 /* block.c's JM_T_MIN: vertices are kept this far (of the edge) from nodes */
 #define T_MIN 0.01f
 
+/* Grows the k arrays *a[i] (elements of esz[i] bytes) from oldn to newn
+ * elements, all or none, counted in m (a failure leaves them as they were,
+ * so the counts and the capacities stay in step). */
+static int grow_all(jm_mem *m, void **a[], const size_t *esz, int k, size_t oldn, size_t newn)
+{
+    void *nw[5];
+    for (int i = 0; i < k; i++) {
+        nw[i] = jm_alloc(m, newn * esz[i]);
+        if (!nw[i]) {
+            for (int j = 0; j < i; j++) jm_free(m, nw[j], newn * esz[j]);
+            return 0;
+        }
+    }
+    for (int i = 0; i < k; i++) {
+        if (*a[i]) memcpy(nw[i], *a[i], oldn * esz[i]);
+        jm_free(m, *a[i], oldn * esz[i]);
+        *a[i] = nw[i];
+    }
+    return 1;
+}
+
 int jm_probe_grow(jm_probe *pr, size_t v)
 {
     size_t nc = pr->cap ? 2 * pr->cap : 1024;
     while (nc <= v) nc *= 2;
-    uint32_t *s = realloc(pr->slot, nc * sizeof *s);
-    if (!s) return 0;
-    pr->slot = s;
-    float *tt = realloc(pr->t, nc * sizeof *tt);
-    if (!tt) return 0;
-    pr->t = tt;
-    uint32_t *pa = realloc(pr->part, nc * sizeof *pa);
-    if (!pa) return 0;
-    pr->part = pa;
-    float *pt = realloc(pr->pt, 3 * nc * sizeof *pt);
-    if (!pt) return 0;
-    pr->pt = pt;
+    void **a[4] = {(void **)&pr->slot, (void **)&pr->t, (void **)&pr->part, (void **)&pr->pt};
+    const size_t esz[4] = {sizeof(uint32_t), sizeof(float), sizeof(uint32_t), 3 * sizeof(float)};
+    if (!grow_all(pr->mem, a, esz, 4, pr->cap, nc)) return 0;
     pr->cap = nc;
     return 1;
 }
 
 void jm_probe_free(jm_probe *pr)
 {
-    free(pr->slot);
-    free(pr->t);
-    free(pr->part);
-    free(pr->pt);
-    free(pr->order);
-    free(pr->px);
-    free(pr->py);
-    free(pr->pz);
-    free(pr->vmax);
-    free(pr->pstart);
+    jm_mem *m = pr->mem;
+    jm_free(m, pr->slot, pr->cap * sizeof(uint32_t));
+    jm_free(m, pr->t, pr->cap * sizeof(float));
+    jm_free(m, pr->part, pr->cap * sizeof(uint32_t));
+    jm_free(m, pr->pt, pr->cap * 3 * sizeof(float));
+    jm_free(m, pr->order, pr->capw * sizeof(uint32_t));
+    jm_free(m, pr->px, pr->capw * sizeof(float));
+    jm_free(m, pr->py, pr->capw * sizeof(float));
+    jm_free(m, pr->pz, pr->capw * sizeof(float));
+    jm_free(m, pr->vmax, pr->capw * sizeof(float));
+    jm_free(m, pr->pstart, pr->capp * sizeof(uint32_t));
     memset(pr, 0, sizeof *pr);
+    pr->mem = m;
 }
 
 static int reserve(jm_probe *pr, size_t n, size_t parts)
@@ -67,20 +81,13 @@ static int reserve(jm_probe *pr, size_t n, size_t parts)
     if (n > pr->capw) {
         size_t nc = pr->capw ? 2 * pr->capw : 1024;
         while (nc < n) nc *= 2;
-        void *p[5] = {realloc(pr->order, nc * sizeof(uint32_t)), NULL, NULL, NULL, NULL};
-        if (p[0]) pr->order = p[0];
-        if (!p[0] || !(p[1] = realloc(pr->px, nc * sizeof(float)))) return 0;
-        pr->px = p[1];
-        if (!(p[2] = realloc(pr->py, nc * sizeof(float)))) return 0;
-        pr->py = p[2];
-        if (!(p[3] = realloc(pr->pz, nc * sizeof(float)))) return 0;
-        pr->pz = p[3];
-        if (!(p[4] = realloc(pr->vmax, nc * sizeof(float)))) return 0;
-        pr->vmax = p[4];
+        void **a[5] = {(void **)&pr->order, (void **)&pr->px, (void **)&pr->py, (void **)&pr->pz, (void **)&pr->vmax};
+        const size_t esz[5] = {sizeof(uint32_t), sizeof(float), sizeof(float), sizeof(float), sizeof(float)};
+        if (!grow_all(pr->mem, a, esz, 5, pr->capw, nc)) return 0;
         pr->capw = nc;
     }
     if (parts + 1 > pr->capp) {
-        uint32_t *q = realloc(pr->pstart, (parts + 1) * sizeof *q);
+        uint32_t *q = jm_realloc(pr->mem, pr->pstart, pr->capp * sizeof *q, (parts + 1) * sizeof *q);
         if (!q) return 0;
         pr->pstart = q;
         pr->capp = parts + 1;

@@ -10,6 +10,7 @@
  * The rest is the probe's own: the vertices' points sorted by part of the
  * block (PART^3 cubes) and the largest piece value found at each. */
 typedef struct jm_probe {
+    jm_mem *mem;          /* the context's counts (alloc.c); kept by jm_probe_free */
     size_t cap;
     uint32_t *slot;
     float *t;
