@@ -102,6 +102,12 @@ static int lonely(const jm_grid *g, uint32_t ci, uint32_t i, int range, float is
 /* Densities: the neighbours of a cell are copied once into structure-of-
  * arrays form (padded to 8 with far-away points), then each particle sums
  * its kernel over them in 8 lanes added in a fixed order. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+/* the 8 lanes in one AVX2 or AVX-512 register where the CPU has them: the
+ * same operations per lane in the same order (no FMA: ISO C mode keeps
+ * -ffp-contract=off), so the same bits on every machine */
+__attribute__((target_clones("avx512f", "avx2", "default")))
+#endif
 static void sph_cell(void *arg, size_t ci, int worker)
 {
     nb_job *job = arg;
