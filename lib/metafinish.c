@@ -17,22 +17,133 @@
  * corner then points away from it (a renderer shades that corner from
  * behind). Such a vertex's normal is turned toward its triangles until it
  * faces them all (see face_normals), after the sag has moved the vertices. */
-/* the triangle's corners and normals, its edges and its normal (x2 area) */
-#define LOAD_TRIANGLE                                                                                     \
-    const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};                                \
-    float p[3][3], n[3][3], e1[3], e2[3], e3[3];                                                          \
-    for (int k = 0; k < 3; k++)                                                                           \
-        for (int a = 0; a < 3; a++) p[k][a] = P[3 * (size_t)vi[k] + a], n[k][a] = N[3 * (size_t)vi[k] + a]; \
-    for (int a = 0; a < 3; a++) {                                                                         \
-        e1[a] = p[1][a] - p[0][a];                                                                        \
-        e2[a] = p[2][a] - p[1][a];                                                                        \
-        e3[a] = p[0][a] - p[2][a];                                                                        \
-    }                                                                                                     \
-    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],                   \
-                         e3[0] * e1[1] - e3[1] * e1[0]};                                                  \
-    const float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);                             \
-    (void)e2
+/* a corner faces its triangle above this cosine (see face_normals) */
+#define COS_MIN 0.02f
+/* Per-triangle kernels of the passes over every triangle, with the same
+ * float operations in the SSE2 and the plain C versions (the same bits):
+ * a point's coordinates in a vector's first three lanes. */
+#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
+#include <emmintrin.h>
+static inline __m128 ld3(const float *p)
+{
+    return _mm_movelh_ps(_mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)p), _mm_load_ss(p + 2));
+}
+/* u x w, each lane as the plain C cross product computes it */
+static inline __m128 cross3(__m128 u, __m128 w)
+{
+    const __m128 u1 = _mm_shuffle_ps(u, u, _MM_SHUFFLE(3, 0, 2, 1)), w2 = _mm_shuffle_ps(w, w, _MM_SHUFFLE(3, 1, 0, 2));
+    const __m128 u2 = _mm_shuffle_ps(u, u, _MM_SHUFFLE(3, 1, 0, 2)), w1 = _mm_shuffle_ps(w, w, _MM_SHUFFLE(3, 0, 2, 1));
+    return _mm_sub_ps(_mm_mul_ps(u1, w2), _mm_mul_ps(u2, w1));
+}
+/* s + m0 + m1 + m2 (first lanes), left to right as in C */
+static inline __m128 sum3(__m128 s, __m128 m)
+{
+    s = _mm_add_ss(s, m);
+    s = _mm_add_ss(s, _mm_shuffle_ps(m, m, 1));
+    return _mm_add_ss(s, _mm_shuffle_ps(m, m, 2));
+}
+static inline float dot3(__m128 a, __m128 b)
+{
+    const __m128 m = _mm_mul_ps(a, b);
+    return _mm_cvtss_f32(_mm_add_ss(_mm_add_ss(m, _mm_shuffle_ps(m, m, 1)), _mm_shuffle_ps(m, m, 2)));
+}
+/* the triangle's chord sag (x24, see above) and its normal's length (x2 area) */
+static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len)
+{
+    const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
+    const __m128 n0 = ld3(N + 3 * (size_t)vi[0]), n1 = ld3(N + 3 * (size_t)vi[1]), n2 = ld3(N + 3 * (size_t)vi[2]);
+    const __m128 e1 = _mm_sub_ps(p1, p0), e2 = _mm_sub_ps(p2, p1), e3 = _mm_sub_ps(p0, p2);
+    const __m128 cr = cross3(e3, e1);
+    *len = sqrtf(dot3(cr, cr));
+    const __m128 m1 = _mm_mul_ps(_mm_sub_ps(n1, n0), e1), m2 = _mm_mul_ps(_mm_sub_ps(n2, n1), e2),
+                 m3 = _mm_mul_ps(_mm_sub_ps(n0, n2), e3);
+    __m128 s = _mm_add_ss(m1, _mm_shuffle_ps(m1, m1, 1));
+    s = _mm_add_ss(s, _mm_shuffle_ps(m1, m1, 2));
+    return _mm_cvtss_f32(sum3(sum3(s, m2), m3));
+}
+/* bit k set where corner k's normal does not face the triangle: cosine
+ * above COS_MIN, without the square root */
+static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+{
+    const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
+    const __m128 cr = cross3(_mm_sub_ps(p0, p2), _mm_sub_ps(p1, p0));
+    const float lim2 = COS_MIN * COS_MIN * dot3(cr, cr);
+    int away = 0;
+    for (int k = 0; k < 3; k++) {
+        const float d = dot3(ld3(N + 3 * (size_t)vi[k]), cr);
+        away |= !(d > 0.0f && d * d > lim2) << k;
+    }
+    return away;
+}
+/* Whether triangle v, its vertices moved by D along their normals N, turns
+ * its normal against its own at positions P. */
+static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
+{
+    __m128 p[3], q[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = ld3(P + 3 * (size_t)v[k]);
+        q[k] = _mm_add_ps(p[k], _mm_mul_ps(_mm_set1_ps(D[v[k]]), ld3(N + 3 * (size_t)v[k])));
+    }
+    const __m128 c0 = cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
+    const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
+    return dot3(c0, c1) < 0.0f;
+}
+#else
+static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len)
+{
+    float p[3][3], n[3][3], e1[3], e2[3], e3[3];
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++) p[k][a] = P[3 * (size_t)vi[k] + a], n[k][a] = N[3 * (size_t)vi[k] + a];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = p[1][a] - p[0][a];
+        e2[a] = p[2][a] - p[1][a];
+        e3[a] = p[0][a] - p[2][a];
+    }
+    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
+                         e3[0] * e1[1] - e3[1] * e1[0]};
+    *len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    return (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
+           (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
+           (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
+}
+static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+{
+    const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+    const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
+                         e3[0] * e1[1] - e3[1] * e1[0]};
+    const float lim2 = COS_MIN * COS_MIN * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    int away = 0;
+    for (int k = 0; k < 3; k++) {
+        const float *n = N + 3 * (size_t)vi[k];
+        const float d = n[0] * cr[0] + n[1] * cr[1] + n[2] * cr[2];
+        away |= !(d > 0.0f && d * d > lim2) << k;
+    }
+    return away;
+}
+static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
+{
+    float p[3][3], q[3][3];
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++) {
+            p[k][a] = P[3 * (size_t)v[k] + a];
+            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
+        }
+    float u[3], w[3], x[3], y[3];
+    for (int a = 0; a < 3; a++) {
+        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
+        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
+    }
+    const float c0[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+    const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+    return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
+}
+#endif
 
+/* rounds that halve the offsets of a folded triangle's vertices before
+ * they are zeroed */
+#define FOLD_HALVINGS 4
 /* Normals facing their triangles. flag: nv bytes of scratch. A corner
  * faces its triangle when the cosine between the vertex normal and the
  * triangle's exceeds COS_MIN; each vertex with a corner that does not
@@ -40,28 +151,16 @@
  * those it fails (by their sum, renormalised) until it faces all of them,
  * keeping the best of a few steps (a fan folded over itself may have no
  * normal facing every triangle). */
-#define COS_MIN 0.02f
-/* rounds that halve the offsets of a folded triangle's vertices before
- * they are zeroed */
-#define FOLD_HALVINGS 4
 static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
                         size_t nt, uint8_t *flag)
 {
     memset(flag, 0, nv);
     size_t bad = 0;
     for (size_t t = 0; t < nt; t++) {
-        const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-        const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
-        const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-        const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
-        const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
-                             e3[0] * e1[1] - e3[1] * e1[0]};
-        /* cos > COS_MIN without the square root */
-        const float lim2 = COS_MIN * COS_MIN * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        const uint32_t *vi = idx + 3 * t;
+        const int away = corners_away(P, N, vi);
         for (int k = 0; k < 3; k++) {
-            const float *n = N + 3 * (size_t)vi[k];
-            float d = n[0] * cr[0] + n[1] * cr[1] + n[2] * cr[2];
-            if (!(d > 0.0f && d * d > lim2) && !flag[vi[k]]) {
+            if ((away >> k & 1) && !flag[vi[k]]) {
                 flag[vi[k]] = 1;
                 bad++;
             }
@@ -158,26 +257,6 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
     return ok;
 }
 
-/* Whether triangle v, its vertices moved by D along their normals N, turns
- * its normal against its own at positions P. */
-static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
-{
-    float p[3][3], q[3][3];
-    for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 3; a++) {
-            p[k][a] = P[3 * (size_t)v[k] + a];
-            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
-        }
-    float u[3], w[3], x[3], y[3];
-    for (int a = 0; a < 3; a++) {
-        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
-        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
-    }
-    const float c0[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-    const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
-}
-
 int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
                    int facing, float max_sag)
 {
@@ -190,10 +269,9 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
     if (compensate) {
         memset(A, 0, 2 * nv * sizeof(float));
         for (size_t t = 0; t < nt; t++) {
-            LOAD_TRIANGLE;
-            float sag = (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
-                        (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
-                        (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
+            const uint32_t *vi = idx + 3 * t;
+            float len;
+            const float sag = tri_sag(P, N, vi, &len);
             const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
             for (int k = 0; k < 3; k++) {
                 A[2 * (size_t)vi[k]] += as;
