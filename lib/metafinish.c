@@ -67,13 +67,17 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
 {
     const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
     const __m128 cr = cross3(_mm_sub_ps(p0, p2), _mm_sub_ps(p1, p0));
-    const float lim2 = COS_MIN * COS_MIN * dot3(cr, cr);
-    int away = 0;
-    for (int k = 0; k < 3; k++) {
-        const float d = dot3(ld3(N + 3 * (size_t)vi[k]), cr);
-        away |= !(d > 0.0f && d * d > lim2) << k;
-    }
-    return away;
+    const __m128 lim2 = _mm_set1_ps(COS_MIN * COS_MIN * dot3(cr, cr));
+    /* the three corners' dots in three lanes: products transposed, then
+     * (x + y) + z */
+    const __m128 ma = _mm_mul_ps(ld3(N + 3 * (size_t)vi[0]), cr), mb = _mm_mul_ps(ld3(N + 3 * (size_t)vi[1]), cr),
+                 mc = _mm_mul_ps(ld3(N + 3 * (size_t)vi[2]), cr);
+    const __m128 lo = _mm_unpacklo_ps(ma, mb), hi = _mm_unpackhi_ps(ma, mb);
+    const __m128 d = _mm_add_ps(_mm_add_ps(_mm_shuffle_ps(lo, mc, _MM_SHUFFLE(3, 0, 1, 0)),
+                                           _mm_shuffle_ps(lo, mc, _MM_SHUFFLE(3, 1, 3, 2))),
+                                _mm_shuffle_ps(hi, mc, _MM_SHUFFLE(3, 2, 1, 0)));
+    const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(d, _mm_setzero_ps()), _mm_cmpgt_ps(_mm_mul_ps(d, d), lim2));
+    return ~_mm_movemask_ps(ok) & 7;
 }
 /* Whether triangle v, its vertices moved by D along their normals N, turns
  * its normal against its own at positions P. */
