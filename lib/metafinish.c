@@ -26,7 +26,13 @@
 #include <emmintrin.h>
 static inline __m128 ld3(const float *p)
 {
-    return _mm_movelh_ps(_mm_loadl_pi(_mm_setzero_ps(), (const __m64 *)p), _mm_load_ss(p + 2));
+    return _mm_movelh_ps(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)p)), _mm_load_ss(p + 2));
+}
+/* a[0] += x, a[1] += y */
+static inline void add2(float *a, float x, float y)
+{
+    const __m128 s = _mm_add_ps(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)a)), _mm_unpacklo_ps(_mm_set_ss(x), _mm_set_ss(y)));
+    _mm_storel_epi64((__m128i *)a, _mm_castps_si128(s));
 }
 /* u x w, each lane as the plain C cross product computes it */
 static inline __m128 cross3(__m128 u, __m128 w)
@@ -81,7 +87,7 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
 }
 /* Whether triangle v, its vertices moved by D along their normals N, turns
  * its normal against its own at positions P. */
-static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
+static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
 {
     __m128 p[3], q[3];
     for (int k = 0; k < 3; k++) {
@@ -93,6 +99,11 @@ static int folds(const float *restrict P, const float *restrict N, const float *
     return dot3(c0, c1) < 0.0f;
 }
 #else
+static inline void add2(float *a, float x, float y)
+{
+    a[0] += x;
+    a[1] += y;
+}
 static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len)
 {
     float p[3][3], n[3][3], e1[3], e2[3], e3[3];
@@ -277,10 +288,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             float len;
             const float sag = tri_sag(P, N, vi, &len);
             const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
-            for (int k = 0; k < 3; k++) {
-                A[2 * (size_t)vi[k]] += as;
-                A[2 * (size_t)vi[k] + 1] += area;
-            }
+            for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as, area);
         }
         for (size_t i = 0; i < nv; i++) {
             float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
