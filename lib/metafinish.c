@@ -53,14 +53,16 @@ static inline float dot3(__m128 a, __m128 b)
     const __m128 m = _mm_mul_ps(a, b);
     return _mm_cvtss_f32(_mm_add_ss(_mm_add_ss(m, _mm_shuffle_ps(m, m, 1)), _mm_shuffle_ps(m, m, 2)));
 }
-/* the triangle's chord sag (x24, see above) and its normal's length (x2 area) */
-static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len)
+/* the triangle's chord sag (x24, see above) and its normal's length (x2
+ * area); its normal (x2 area, the same bits as folds' unmoved one) in out */
+static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len, float *out)
 {
     const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
     const __m128 n0 = ld3(N + 3 * (size_t)vi[0]), n1 = ld3(N + 3 * (size_t)vi[1]), n2 = ld3(N + 3 * (size_t)vi[2]);
     const __m128 e1 = _mm_sub_ps(p1, p0), e2 = _mm_sub_ps(p2, p1), e3 = _mm_sub_ps(p0, p2);
     const __m128 cr = cross3(e3, e1);
     *len = sqrtf(dot3(cr, cr));
+    _mm_storeu_ps(out, cr);
     const __m128 m1 = _mm_mul_ps(_mm_sub_ps(n1, n0), e1), m2 = _mm_mul_ps(_mm_sub_ps(n2, n1), e2),
                  m3 = _mm_mul_ps(_mm_sub_ps(n0, n2), e3);
     __m128 s = _mm_add_ss(m1, _mm_shuffle_ps(m1, m1, 1));
@@ -86,15 +88,17 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     return ~_mm_movemask_ps(ok) & 7;
 }
 /* Whether triangle v, its vertices moved by D along their normals N, turns
- * its normal against its own at positions P. */
-static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
+ * its normal against its own at positions P, c0 (from tri_sag: the same
+ * bits as (p1 - p0) x (p2 - p0), since p0 - p2 is -(p2 - p0) exactly). */
+static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
+                        const float *c0p)
 {
     __m128 p[3], q[3];
     for (int k = 0; k < 3; k++) {
         p[k] = ld3(P + 3 * (size_t)v[k]);
         q[k] = _mm_add_ps(p[k], _mm_mul_ps(_mm_set1_ps(D[v[k]]), ld3(N + 3 * (size_t)v[k])));
     }
-    const __m128 c0 = cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
+    const __m128 c0 = _mm_loadu_ps(c0p);
     const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
     return dot3(c0, c1) < 0.0f;
 }
@@ -104,7 +108,7 @@ static inline void add2(float *a, float x, float y)
     a[0] += x;
     a[1] += y;
 }
-static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len)
+static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len, float *out)
 {
     float p[3][3], n[3][3], e1[3], e2[3], e3[3];
     for (int k = 0; k < 3; k++)
@@ -117,6 +121,7 @@ static inline float tri_sag(const float *restrict P, const float *restrict N, co
     const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
                          e3[0] * e1[1] - e3[1] * e1[0]};
     *len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    memcpy(out, cr, sizeof cr);
     return (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
            (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
            (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
@@ -137,20 +142,15 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     }
     return away;
 }
-static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
+static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
+                        const float *c0p)
 {
-    float p[3][3], q[3][3];
+    float q[3][3];
     for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 3; a++) {
-            p[k][a] = P[3 * (size_t)v[k] + a];
-            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
-        }
-    float u[3], w[3], x[3], y[3];
-    for (int a = 0; a < 3; a++) {
-        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
-        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
-    }
-    const float c0[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        for (int a = 0; a < 3; a++) q[k][a] = P[3 * (size_t)v[k] + a] + D[v[k]] * N[3 * (size_t)v[k] + a];
+    float x[3], y[3];
+    for (int a = 0; a < 3; a++) x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
+    const float *c0 = c0p;
     const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
     return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
 }
@@ -282,11 +282,17 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
     float *A = acc, *D = acc + 2 * nv;
     const float *P = pos, *N = nrm;
     if (compensate) {
+        /* each triangle's normal (x2 area), in 4 floats */
+        float *C = jm_alloc(mem, 4 * (nt + 1) * sizeof *C);
+        if (!C) {
+            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
+            return 0;
+        }
         memset(A, 0, 2 * nv * sizeof(float));
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *vi = idx + 3 * t;
             float len;
-            const float sag = tri_sag(P, N, vi, &len);
+            const float sag = tri_sag(P, N, vi, &len, C + 4 * t);
             const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
             for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as, area);
         }
@@ -309,6 +315,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
         const size_t capw = nt / 8 + 64;
         uint32_t *watch = jm_alloc(mem, capw * sizeof *watch);
         if (!watch) {
+            jm_free(mem, C, 4 * (nt + 1) * sizeof *C);
             jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
             return 0;
         }
@@ -319,8 +326,9 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             size_t folded = 0, fresh = 0;
             const size_t count = all ? nt : nw;
             for (size_t j = 0; j < count; j++) {
-                const uint32_t *v = idx + 3 * (all ? j : watch[j]);
-                if (!folds(P, N, D, v)) continue;
+                const size_t t = all ? j : watch[j];
+                const uint32_t *v = idx + 3 * t;
+                if (!folds(P, N, D, v, C + 4 * t)) continue;
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
                     flag[v[k]] = changed[v[k]] = 1;
@@ -339,6 +347,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
                 }
         }
         jm_free(mem, watch, capw * sizeof *watch);
+        jm_free(mem, C, 4 * (nt + 1) * sizeof *C);
         for (size_t i = 0; i < nv; i++)
             for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
