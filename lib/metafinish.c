@@ -174,6 +174,7 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
     for (size_t t = 0; t < nt; t++) {
         const uint32_t *vi = idx + 3 * t;
         const int away = corners_away(P, N, vi);
+        if (!away) continue;
         for (int k = 0; k < 3; k++) {
             if ((away >> k & 1) && !flag[vi[k]]) {
                 flag[vi[k]] = 1;
@@ -198,7 +199,7 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
         }
         for (size_t t = 0; t < nt && ok; t++) {
             const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-            if (!flag[vi[0]] && !flag[vi[1]] && !flag[vi[2]]) continue;
+            if (!(flag[vi[0]] | flag[vi[1]] | flag[vi[2]])) continue;
             const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
             const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
             const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
