@@ -71,10 +71,8 @@ static inline float tri_sag(const float *restrict P, const float *restrict N, co
 }
 /* bit k set where corner k's normal does not face the triangle: cosine
  * above COS_MIN, without the square root */
-static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+static inline int facing_away(const float *restrict N, const uint32_t *vi, __m128 cr)
 {
-    const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
-    const __m128 cr = cross3(_mm_sub_ps(p0, p2), _mm_sub_ps(p1, p0));
     const __m128 lim2 = _mm_set1_ps(COS_MIN * COS_MIN * dot3(cr, cr));
     /* the three corners' dots in three lanes: products transposed, then
      * (x + y) + z */
@@ -87,11 +85,24 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(d, _mm_setzero_ps()), _mm_cmpgt_ps(_mm_mul_ps(d, d), lim2));
     return ~_mm_movemask_ps(ok) & 7;
 }
+/* the same, the triangle's normal (x2 area) computed from P, or read from cr */
+static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+{
+    const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
+    return facing_away(N, vi, cross3(_mm_sub_ps(p0, p2), _mm_sub_ps(p1, p0)));
+}
+static inline int stored_away(const float *restrict N, const uint32_t *vi, const float *cr)
+{
+    return facing_away(N, vi, _mm_loadu_ps(cr));
+}
 /* Whether triangle v, its vertices moved by D along their normals N, turns
  * its normal against its own at positions P, c0 (from tri_sag: the same
- * bits as (p1 - p0) x (p2 - p0), since p0 - p2 is -(p2 - p0) exactly). */
+ * bits as (p1 - p0) x (p2 - p0), since p0 - p2 is -(p2 - p0) exactly); its
+ * moved normal in c1out (for the same reason, what corners_away would
+ * compute from the moved positions, but for the sign of a zero, which the
+ * facing test does not see). */
 static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        const float *c0p)
+                        const float *c0p, float *c1out)
 {
     __m128 p[3], q[3];
     for (int k = 0; k < 3; k++) {
@@ -100,6 +111,7 @@ static inline int folds(const float *restrict P, const float *restrict N, const 
     }
     const __m128 c0 = _mm_loadu_ps(c0p);
     const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
+    _mm_storeu_ps(c1out, c1);
     return dot3(c0, c1) < 0.0f;
 }
 #else
@@ -126,13 +138,8 @@ static inline float tri_sag(const float *restrict P, const float *restrict N, co
            (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
            (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
 }
-static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+static inline int stored_away(const float *restrict N, const uint32_t *vi, const float *cr)
 {
-    const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
-    const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-    const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
-    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
-                         e3[0] * e1[1] - e3[1] * e1[0]};
     const float lim2 = COS_MIN * COS_MIN * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
     int away = 0;
     for (int k = 0; k < 3; k++) {
@@ -142,8 +149,17 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     }
     return away;
 }
+static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+{
+    const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+    const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
+                         e3[0] * e1[1] - e3[1] * e1[0]};
+    return stored_away(N, vi, cr);
+}
 static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        const float *c0p)
+                        const float *c0p, float *c1out)
 {
     float q[3][3];
     for (int k = 0; k < 3; k++)
@@ -152,6 +168,7 @@ static int folds(const float *restrict P, const float *restrict N, const float *
     for (int a = 0; a < 3; a++) x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
     const float *c0 = c0p;
     const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+    memcpy(c1out, c1, sizeof c1);
     return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
 }
 #endif
@@ -159,7 +176,9 @@ static int folds(const float *restrict P, const float *restrict N, const float *
 /* rounds that halve the offsets of a folded triangle's vertices before
  * they are zeroed */
 #define FOLD_HALVINGS 4
-/* Normals facing their triangles. flag: nv bytes of scratch. A corner
+/* Normals facing their triangles. flag: nv bytes of scratch; C1, where
+ * not NULL, each triangle's normal (x2 area) at P unless changed marks one
+ * of its vertices. A corner
  * faces its triangle when the cosine between the vertex normal and the
  * triangle's exceeds COS_MIN; each vertex with a corner that does not
  * gathers its triangles' unit normals, and its normal is pushed toward
@@ -167,13 +186,14 @@ static int folds(const float *restrict P, const float *restrict N, const float *
  * keeping the best of a few steps (a fan folded over itself may have no
  * normal facing every triangle). */
 static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
-                        size_t nt, uint8_t *flag)
+                        size_t nt, uint8_t *flag, const float *C1, const uint8_t *changed)
 {
     memset(flag, 0, nv);
     size_t bad = 0;
     for (size_t t = 0; t < nt; t++) {
         const uint32_t *vi = idx + 3 * t;
-        const int away = corners_away(P, N, vi);
+        const int away = C1 && !(changed[vi[0]] | changed[vi[1]] | changed[vi[2]]) ? stored_away(N, vi, C1 + 4 * t)
+                                                                                  : corners_away(P, N, vi);
         if (!away) continue;
         for (int k = 0; k < 3; k++) {
             if ((away >> k & 1) && !flag[vi[k]]) {
@@ -282,13 +302,19 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
     if (!acc) return 0;
     float *A = acc, *D = acc + 2 * nv;
     const float *P = pos, *N = nrm;
+    /* each triangle's normal (x2 area) in 4 floats, then its normal moved
+     * by the first fold round: where none of its vertices moves again (not
+     * changed), the facing test's */
+    float *C = NULL, *C1 = NULL;
+    const size_t csz = compensate ? 8 * (nt + 1) * sizeof *C : 0;
+    uint8_t *changed = (uint8_t *)acc + nv;
     if (compensate) {
-        /* each triangle's normal (x2 area), in 4 floats */
-        float *C = jm_alloc(mem, 4 * (nt + 1) * sizeof *C);
+        C = jm_alloc(mem, csz);
         if (!C) {
             jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
             return 0;
         }
+        C1 = C + 4 * (nt + 1);
         memset(A, 0, 2 * nv * sizeof(float));
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *vi = idx + 3 * t;
@@ -312,11 +338,11 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
          * After the first round (every triangle), a round looks only at the
          * triangles with a vertex whose offset has changed: the others keep
          * the offsets with which that round found them not folded. */
-        uint8_t *flag = (uint8_t *)acc, *changed = flag + nv;
+        uint8_t *flag = (uint8_t *)acc;
         const size_t capw = nt / 8 + 64;
         uint32_t *watch = jm_alloc(mem, capw * sizeof *watch);
         if (!watch) {
-            jm_free(mem, C, 4 * (nt + 1) * sizeof *C);
+            jm_free(mem, C, csz);
             jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
             return 0;
         }
@@ -329,7 +355,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             for (size_t j = 0; j < count; j++) {
                 const size_t t = all ? j : watch[j];
                 const uint32_t *v = idx + 3 * t;
-                if (!folds(P, N, D, v, C + 4 * t)) continue;
+                if (!folds(P, N, D, v, C + 4 * t, C1 + 4 * t)) continue;
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
                     flag[v[k]] = changed[v[k]] = 1;
@@ -348,14 +374,11 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
                 }
         }
         jm_free(mem, watch, capw * sizeof *watch);
-        jm_free(mem, C, 4 * (nt + 1) * sizeof *C);
         for (size_t i = 0; i < nv; i++)
             for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
-    if (facing && !face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc)) {
-        jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-        return 0;
-    }
+    const int ok = !facing || face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc, C1, changed);
+    jm_free(mem, C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-    return 1;
+    return ok;
 }
