@@ -96,22 +96,22 @@ static inline int stored_away(const float *restrict N, const uint32_t *vi, const
     return facing_away(N, vi, _mm_loadu_ps(cr));
 }
 /* Whether triangle v, its vertices moved by D along their normals N, turns
- * its normal against its own at positions P, c0 (from tri_sag: the same
- * bits as (p1 - p0) x (p2 - p0), since p0 - p2 is -(p2 - p0) exactly); its
- * moved normal in c1out (for the same reason, what corners_away would
- * compute from the moved positions, but for the sign of a zero, which the
- * facing test does not see). */
+ * its normal (x2 area) against its own at positions P: that read from c
+ * where not NULL (from tri_sag, the same bits as (p1 - p0) x (p2 - p0) but
+ * for the sign of a zero, which the test does not see, as p0 - p2 is
+ * -(p2 - p0) exactly), then replaced there by the moved one (for the same
+ * reason, what corners_away would compute at the moved positions). */
 static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        const float *c0p, float *c1out)
+                        float *c)
 {
     __m128 p[3], q[3];
     for (int k = 0; k < 3; k++) {
         p[k] = ld3(P + 3 * (size_t)v[k]);
         q[k] = _mm_add_ps(p[k], _mm_mul_ps(_mm_set1_ps(D[v[k]]), ld3(N + 3 * (size_t)v[k])));
     }
-    const __m128 c0 = _mm_loadu_ps(c0p);
+    const __m128 c0 = c ? _mm_loadu_ps(c) : cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
     const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
-    _mm_storeu_ps(c1out, c1);
+    if (c) _mm_storeu_ps(c, c1);
     return dot3(c0, c1) < 0.0f;
 }
 #else
@@ -159,16 +159,27 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     return stored_away(N, vi, cr);
 }
 static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        const float *c0p, float *c1out)
+                        float *c)
 {
-    float q[3][3];
+    float p[3][3], q[3][3];
     for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 3; a++) q[k][a] = P[3 * (size_t)v[k] + a] + D[v[k]] * N[3 * (size_t)v[k] + a];
-    float x[3], y[3];
-    for (int a = 0; a < 3; a++) x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
-    const float *c0 = c0p;
+        for (int a = 0; a < 3; a++) {
+            p[k][a] = P[3 * (size_t)v[k] + a];
+            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
+        }
+    float u[3], w[3], x[3], y[3], c0[3];
+    for (int a = 0; a < 3; a++) {
+        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
+        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
+    }
+    if (c) memcpy(c0, c, sizeof c0);
+    else {
+        c0[0] = u[1] * w[2] - u[2] * w[1];
+        c0[1] = u[2] * w[0] - u[0] * w[2];
+        c0[2] = u[0] * w[1] - u[1] * w[0];
+    }
     const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    memcpy(c1out, c1, sizeof c1);
+    if (c) memcpy(c, c1, sizeof c1);
     return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
 }
 #endif
@@ -302,11 +313,11 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
     if (!acc) return 0;
     float *A = acc, *D = acc + 2 * nv;
     const float *P = pos, *N = nrm;
-    /* each triangle's normal (x2 area) in 4 floats, then its normal moved
-     * by the first fold round: where none of its vertices moves again (not
-     * changed), the facing test's */
-    float *C = NULL, *C1 = NULL;
-    const size_t csz = compensate ? 8 * (nt + 1) * sizeof *C : 0;
+    /* each triangle's normal (x2 area) in 4 floats, replaced by the first
+     * fold round with its moved one: where none of its vertices moves again
+     * (not changed), the facing test's */
+    float *C = NULL;
+    const size_t csz = compensate ? 4 * (nt + 1) * sizeof *C : 0;
     uint8_t *changed = (uint8_t *)acc + nv;
     if (compensate) {
         C = jm_alloc(mem, csz);
@@ -314,7 +325,6 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
             return 0;
         }
-        C1 = C + 4 * (nt + 1);
         memset(A, 0, 2 * nv * sizeof(float));
         for (size_t t = 0; t < nt; t++) {
             const uint32_t *vi = idx + 3 * t;
@@ -355,7 +365,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             for (size_t j = 0; j < count; j++) {
                 const size_t t = all ? j : watch[j];
                 const uint32_t *v = idx + 3 * t;
-                if (!folds(P, N, D, v, C + 4 * t, C1 + 4 * t)) continue;
+                if (!(round ? folds(P, N, D, v, NULL) : folds(P, N, D, v, C + 4 * t))) continue;
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
                     flag[v[k]] = changed[v[k]] = 1;
@@ -377,7 +387,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
         for (size_t i = 0; i < nv; i++)
             for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
-    const int ok = !facing || face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc, C1, changed);
+    const int ok = !facing || face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc, C, changed);
     jm_free(mem, C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
     return ok;
