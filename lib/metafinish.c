@@ -17,51 +17,197 @@
  * corner then points away from it (a renderer shades that corner from
  * behind). Such a vertex's normal is turned toward its triangles until it
  * faces them all (see face_normals), after the sag has moved the vertices. */
-/* the triangle's corners and normals, its edges and its normal (x2 area) */
-#define LOAD_TRIANGLE                                                                                     \
-    const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};                                \
-    float p[3][3], n[3][3], e1[3], e2[3], e3[3];                                                          \
-    for (int k = 0; k < 3; k++)                                                                           \
-        for (int a = 0; a < 3; a++) p[k][a] = P[3 * (size_t)vi[k] + a], n[k][a] = N[3 * (size_t)vi[k] + a]; \
-    for (int a = 0; a < 3; a++) {                                                                         \
-        e1[a] = p[1][a] - p[0][a];                                                                        \
-        e2[a] = p[2][a] - p[1][a];                                                                        \
-        e3[a] = p[0][a] - p[2][a];                                                                        \
-    }                                                                                                     \
-    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],                   \
-                         e3[0] * e1[1] - e3[1] * e1[0]};                                                  \
-    const float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);                             \
-    (void)e2
+/* a corner faces its triangle above this cosine (see face_normals) */
+#define COS_MIN 0.02f
+/* Per-triangle kernels of the passes over every triangle, with the same
+ * float operations in the SSE2 and the plain C versions (the same bits):
+ * a point's coordinates in a vector's first three lanes. */
+#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
+#include <emmintrin.h>
+static inline __m128 ld3(const float *p)
+{
+    return _mm_movelh_ps(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)p)), _mm_load_ss(p + 2));
+}
+/* a[0] += x, a[1] += y */
+static inline void add2(float *a, float x, float y)
+{
+    const __m128 s = _mm_add_ps(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)a)), _mm_unpacklo_ps(_mm_set_ss(x), _mm_set_ss(y)));
+    _mm_storel_epi64((__m128i *)a, _mm_castps_si128(s));
+}
+/* u x w, each lane as the plain C cross product computes it */
+static inline __m128 cross3(__m128 u, __m128 w)
+{
+    const __m128 u1 = _mm_shuffle_ps(u, u, _MM_SHUFFLE(3, 0, 2, 1)), w2 = _mm_shuffle_ps(w, w, _MM_SHUFFLE(3, 1, 0, 2));
+    const __m128 u2 = _mm_shuffle_ps(u, u, _MM_SHUFFLE(3, 1, 0, 2)), w1 = _mm_shuffle_ps(w, w, _MM_SHUFFLE(3, 0, 2, 1));
+    return _mm_sub_ps(_mm_mul_ps(u1, w2), _mm_mul_ps(u2, w1));
+}
+/* s + m0 + m1 + m2 (first lanes), left to right as in C */
+static inline __m128 sum3(__m128 s, __m128 m)
+{
+    s = _mm_add_ss(s, m);
+    s = _mm_add_ss(s, _mm_shuffle_ps(m, m, 1));
+    return _mm_add_ss(s, _mm_shuffle_ps(m, m, 2));
+}
+static inline float dot3(__m128 a, __m128 b)
+{
+    const __m128 m = _mm_mul_ps(a, b);
+    return _mm_cvtss_f32(_mm_add_ss(_mm_add_ss(m, _mm_shuffle_ps(m, m, 1)), _mm_shuffle_ps(m, m, 2)));
+}
+/* the triangle's chord sag (x24, see above) and its normal's length (x2
+ * area); its normal (x2 area, the same bits as folds' unmoved one) in out */
+static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len, float *out)
+{
+    const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
+    const __m128 n0 = ld3(N + 3 * (size_t)vi[0]), n1 = ld3(N + 3 * (size_t)vi[1]), n2 = ld3(N + 3 * (size_t)vi[2]);
+    const __m128 e1 = _mm_sub_ps(p1, p0), e2 = _mm_sub_ps(p2, p1), e3 = _mm_sub_ps(p0, p2);
+    const __m128 cr = cross3(e3, e1);
+    *len = sqrtf(dot3(cr, cr));
+    _mm_storeu_ps(out, cr);
+    const __m128 m1 = _mm_mul_ps(_mm_sub_ps(n1, n0), e1), m2 = _mm_mul_ps(_mm_sub_ps(n2, n1), e2),
+                 m3 = _mm_mul_ps(_mm_sub_ps(n0, n2), e3);
+    __m128 s = _mm_add_ss(m1, _mm_shuffle_ps(m1, m1, 1));
+    s = _mm_add_ss(s, _mm_shuffle_ps(m1, m1, 2));
+    return _mm_cvtss_f32(sum3(sum3(s, m2), m3));
+}
+/* bit k set where corner k's normal does not face the triangle: cosine
+ * above COS_MIN, without the square root */
+static inline int facing_away(const float *restrict N, const uint32_t *vi, __m128 cr)
+{
+    const __m128 lim2 = _mm_set1_ps(COS_MIN * COS_MIN * dot3(cr, cr));
+    /* the three corners' dots in three lanes: products transposed, then
+     * (x + y) + z */
+    const __m128 ma = _mm_mul_ps(ld3(N + 3 * (size_t)vi[0]), cr), mb = _mm_mul_ps(ld3(N + 3 * (size_t)vi[1]), cr),
+                 mc = _mm_mul_ps(ld3(N + 3 * (size_t)vi[2]), cr);
+    const __m128 lo = _mm_unpacklo_ps(ma, mb), hi = _mm_unpackhi_ps(ma, mb);
+    const __m128 d = _mm_add_ps(_mm_add_ps(_mm_shuffle_ps(lo, mc, _MM_SHUFFLE(3, 0, 1, 0)),
+                                           _mm_shuffle_ps(lo, mc, _MM_SHUFFLE(3, 1, 3, 2))),
+                                _mm_shuffle_ps(hi, mc, _MM_SHUFFLE(3, 2, 1, 0)));
+    const __m128 ok = _mm_and_ps(_mm_cmpgt_ps(d, _mm_setzero_ps()), _mm_cmpgt_ps(_mm_mul_ps(d, d), lim2));
+    return ~_mm_movemask_ps(ok) & 7;
+}
+/* the same, the triangle's normal (x2 area) computed from P, or read from cr */
+static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+{
+    const __m128 p0 = ld3(P + 3 * (size_t)vi[0]), p1 = ld3(P + 3 * (size_t)vi[1]), p2 = ld3(P + 3 * (size_t)vi[2]);
+    return facing_away(N, vi, cross3(_mm_sub_ps(p0, p2), _mm_sub_ps(p1, p0)));
+}
+static inline int stored_away(const float *restrict N, const uint32_t *vi, const float *cr)
+{
+    return facing_away(N, vi, _mm_loadu_ps(cr));
+}
+/* Whether triangle v, its vertices moved by D along their normals N, turns
+ * its normal (x2 area) against its own at positions P: that read from c
+ * where not NULL (from tri_sag, the same bits as (p1 - p0) x (p2 - p0) but
+ * for the sign of a zero, which the test does not see, as p0 - p2 is
+ * -(p2 - p0) exactly), then replaced there by the moved one (for the same
+ * reason, what corners_away would compute at the moved positions). */
+static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
+                        float *c)
+{
+    __m128 p[3], q[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = ld3(P + 3 * (size_t)v[k]);
+        q[k] = _mm_add_ps(p[k], _mm_mul_ps(_mm_set1_ps(D[v[k]]), ld3(N + 3 * (size_t)v[k])));
+    }
+    const __m128 c0 = c ? _mm_loadu_ps(c) : cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
+    const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
+    if (c) _mm_storeu_ps(c, c1);
+    return dot3(c0, c1) < 0.0f;
+}
+#else
+static inline void add2(float *a, float x, float y)
+{
+    a[0] += x;
+    a[1] += y;
+}
+static inline float tri_sag(const float *restrict P, const float *restrict N, const uint32_t *vi, float *len, float *out)
+{
+    float p[3][3], n[3][3], e1[3], e2[3], e3[3];
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++) p[k][a] = P[3 * (size_t)vi[k] + a], n[k][a] = N[3 * (size_t)vi[k] + a];
+    for (int a = 0; a < 3; a++) {
+        e1[a] = p[1][a] - p[0][a];
+        e2[a] = p[2][a] - p[1][a];
+        e3[a] = p[0][a] - p[2][a];
+    }
+    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
+                         e3[0] * e1[1] - e3[1] * e1[0]};
+    *len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    memcpy(out, cr, sizeof cr);
+    return (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
+           (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
+           (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
+}
+static inline int stored_away(const float *restrict N, const uint32_t *vi, const float *cr)
+{
+    const float lim2 = COS_MIN * COS_MIN * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    int away = 0;
+    for (int k = 0; k < 3; k++) {
+        const float *n = N + 3 * (size_t)vi[k];
+        const float d = n[0] * cr[0] + n[1] * cr[1] + n[2] * cr[2];
+        away |= !(d > 0.0f && d * d > lim2) << k;
+    }
+    return away;
+}
+static inline int corners_away(const float *restrict P, const float *restrict N, const uint32_t *vi)
+{
+    const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+    const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+    const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
+                         e3[0] * e1[1] - e3[1] * e1[0]};
+    return stored_away(N, vi, cr);
+}
+static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
+                        float *c)
+{
+    float p[3][3], q[3][3];
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++) {
+            p[k][a] = P[3 * (size_t)v[k] + a];
+            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
+        }
+    float u[3], w[3], x[3], y[3], c0[3];
+    for (int a = 0; a < 3; a++) {
+        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
+        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
+    }
+    if (c) memcpy(c0, c, sizeof c0);
+    else {
+        c0[0] = u[1] * w[2] - u[2] * w[1];
+        c0[1] = u[2] * w[0] - u[0] * w[2];
+        c0[2] = u[0] * w[1] - u[1] * w[0];
+    }
+    const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
+    if (c) memcpy(c, c1, sizeof c1);
+    return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
+}
+#endif
 
-/* Normals facing their triangles. flag: nv bytes of scratch. A corner
+/* rounds that halve the offsets of a folded triangle's vertices before
+ * they are zeroed */
+#define FOLD_HALVINGS 4
+/* Normals facing their triangles. flag: nv bytes of scratch; C1, where
+ * not NULL, each triangle's normal (x2 area) at P unless changed marks one
+ * of its vertices. A corner
  * faces its triangle when the cosine between the vertex normal and the
  * triangle's exceeds COS_MIN; each vertex with a corner that does not
  * gathers its triangles' unit normals, and its normal is pushed toward
  * those it fails (by their sum, renormalised) until it faces all of them,
  * keeping the best of a few steps (a fan folded over itself may have no
  * normal facing every triangle). */
-#define COS_MIN 0.02f
-/* rounds that halve the offsets of a folded triangle's vertices before
- * they are zeroed */
-#define FOLD_HALVINGS 4
 static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
-                        size_t nt, uint8_t *flag)
+                        size_t nt, uint8_t *flag, const float *C1, const uint8_t *changed)
 {
     memset(flag, 0, nv);
     size_t bad = 0;
     for (size_t t = 0; t < nt; t++) {
-        const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-        const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
-        const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-        const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
-        const float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2],
-                             e3[0] * e1[1] - e3[1] * e1[0]};
-        /* cos > COS_MIN without the square root */
-        const float lim2 = COS_MIN * COS_MIN * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+        const uint32_t *vi = idx + 3 * t;
+        const int away = C1 && !(changed[vi[0]] | changed[vi[1]] | changed[vi[2]]) ? stored_away(N, vi, C1 + 4 * t)
+                                                                                  : corners_away(P, N, vi);
+        if (!away) continue;
         for (int k = 0; k < 3; k++) {
-            const float *n = N + 3 * (size_t)vi[k];
-            float d = n[0] * cr[0] + n[1] * cr[1] + n[2] * cr[2];
-            if (!(d > 0.0f && d * d > lim2) && !flag[vi[k]]) {
+            if ((away >> k & 1) && !flag[vi[k]]) {
                 flag[vi[k]] = 1;
                 bad++;
             }
@@ -84,7 +230,7 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
         }
         for (size_t t = 0; t < nt && ok; t++) {
             const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-            if (!flag[vi[0]] && !flag[vi[1]] && !flag[vi[2]]) continue;
+            if (!(flag[vi[0]] | flag[vi[1]] | flag[vi[2]])) continue;
             const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
             const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
             const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
@@ -158,26 +304,6 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
     return ok;
 }
 
-/* Whether triangle v, its vertices moved by D along their normals N, turns
- * its normal against its own at positions P. */
-static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v)
-{
-    float p[3][3], q[3][3];
-    for (int k = 0; k < 3; k++)
-        for (int a = 0; a < 3; a++) {
-            p[k][a] = P[3 * (size_t)v[k] + a];
-            q[k][a] = p[k][a] + D[v[k]] * N[3 * (size_t)v[k] + a];
-        }
-    float u[3], w[3], x[3], y[3];
-    for (int a = 0; a < 3; a++) {
-        u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
-        x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
-    }
-    const float c0[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-    const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
-}
-
 int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
                    int facing, float max_sag)
 {
@@ -187,18 +313,25 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
     if (!acc) return 0;
     float *A = acc, *D = acc + 2 * nv;
     const float *P = pos, *N = nrm;
+    /* each triangle's normal (x2 area) in 4 floats, replaced by the first
+     * fold round with its moved one: where none of its vertices moves again
+     * (not changed), the facing test's */
+    float *C = NULL;
+    const size_t csz = compensate ? 4 * (nt + 1) * sizeof *C : 0;
+    uint8_t *changed = (uint8_t *)acc + nv;
     if (compensate) {
+        C = jm_alloc(mem, csz);
+        if (!C) {
+            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
+            return 0;
+        }
         memset(A, 0, 2 * nv * sizeof(float));
         for (size_t t = 0; t < nt; t++) {
-            LOAD_TRIANGLE;
-            float sag = (n[1][0] - n[0][0]) * e1[0] + (n[1][1] - n[0][1]) * e1[1] + (n[1][2] - n[0][2]) * e1[2] +
-                        (n[2][0] - n[1][0]) * e2[0] + (n[2][1] - n[1][1]) * e2[1] + (n[2][2] - n[1][2]) * e2[2] +
-                        (n[0][0] - n[2][0]) * e3[0] + (n[0][1] - n[2][1]) * e3[1] + (n[0][2] - n[2][2]) * e3[2];
+            const uint32_t *vi = idx + 3 * t;
+            float len;
+            const float sag = tri_sag(P, N, vi, &len, C + 4 * t);
             const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
-            for (int k = 0; k < 3; k++) {
-                A[2 * (size_t)vi[k]] += as;
-                A[2 * (size_t)vi[k] + 1] += area;
-            }
+            for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as, area);
         }
         for (size_t i = 0; i < nv; i++) {
             float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
@@ -215,10 +348,11 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
          * After the first round (every triangle), a round looks only at the
          * triangles with a vertex whose offset has changed: the others keep
          * the offsets with which that round found them not folded. */
-        uint8_t *flag = (uint8_t *)acc, *changed = flag + nv;
+        uint8_t *flag = (uint8_t *)acc;
         const size_t capw = nt / 8 + 64;
         uint32_t *watch = jm_alloc(mem, capw * sizeof *watch);
         if (!watch) {
+            jm_free(mem, C, csz);
             jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
             return 0;
         }
@@ -229,8 +363,9 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             size_t folded = 0, fresh = 0;
             const size_t count = all ? nt : nw;
             for (size_t j = 0; j < count; j++) {
-                const uint32_t *v = idx + 3 * (all ? j : watch[j]);
-                if (!folds(P, N, D, v)) continue;
+                const size_t t = all ? j : watch[j];
+                const uint32_t *v = idx + 3 * t;
+                if (!(round ? folds(P, N, D, v, NULL) : folds(P, N, D, v, C + 4 * t))) continue;
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
                     flag[v[k]] = changed[v[k]] = 1;
@@ -252,10 +387,8 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
         for (size_t i = 0; i < nv; i++)
             for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
-    if (facing && !face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc)) {
-        jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-        return 0;
-    }
+    const int ok = !facing || face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc, C, changed);
+    jm_free(mem, C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-    return 1;
+    return ok;
 }
