@@ -253,8 +253,8 @@ static void splat_link(const rows *R, const uint32_t *ps, int np, const int lo[3
 #endif
 
 /* eight vertices at a time where the CPU runs AVX2 (the same values) */
-static int wide;
 #ifdef HAVE_AVX2_PROBE
+static int wide;
 #include <pthread.h>
 static pthread_once_t wide_once = PTHREAD_ONCE_INIT;
 static void wide_choose(void)
