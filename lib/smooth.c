@@ -234,31 +234,40 @@ static void weight_task(void *arg, size_t chunk, int worker)
     }
 }
 
-/* One step: dst = src + tau w (mean of the neighbours - src). */
+/* Positions and normals while they are smoothed: 4 floats per vertex (the
+ * fourth 0), so a neighbour is one 16-byte load and one vector add. The lanes
+ * do the same operations in the same order as scalar code would: the same
+ * bits. */
+typedef float v4f __attribute__((vector_size(16)));
+
+static inline v4f load4(const float *p)
+{
+    v4f r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+/* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per vertex. */
 static void step_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     const float *S = job->src;
+    const uint32_t *start = job->start, *nb = job->nb;
     for (size_t v = a; v < b; v++) {
-        const float *p = &S[3 * v];
-        float *o = &job->dst[3 * v];
-        uint32_t s = job->start[v], e = job->start[v + 1];
+        v4f p = load4(&S[4 * v]);
+        uint32_t s = start[v], e = start[v + 1];
         float k = job->w[v] * job->tau;
         if (e == s || k == 0.0f) {
-            o[0] = p[0], o[1] = p[1], o[2] = p[2];
+            memcpy(&job->dst[4 * v], &p, sizeof p);
             continue;
         }
-        float sx = 0.0f, sy = 0.0f, sz = 0.0f;
-        for (uint32_t i = s; i < e; i++) {
-            const float *q = &S[3 * (size_t)job->nb[i]];
-            sx += q[0], sy += q[1], sz += q[2];
-        }
+        v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (uint32_t i = s; i < e; i++) sum += load4(&S[4 * (size_t)nb[i]]);
         float inv = 1.0f / (float)(e - s);
-        o[0] = p[0] + k * (sx * inv - p[0]);
-        o[1] = p[1] + k * (sy * inv - p[1]);
-        o[2] = p[2] + k * (sz * inv - p[2]);
+        v4f o = p + k * (sum * inv - p);
+        memcpy(&job->dst[4 * v], &o, sizeof o);
     }
 }
 
@@ -331,28 +340,39 @@ static void normal_task(void *arg, size_t chunk, int worker)
 
 /* One step of normal smoothing: the mean of the vertex's normal and those of
  * its neighbours that face the same side (directions only; normalised after
- * the last step). */
+ * the last step), 4 floats per vertex. */
 static void nstep_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     const float *S = job->src;
+    const uint32_t *start = job->start, *nb = job->nb;
     for (size_t v = a; v < b; v++) {
-        const float *n = &S[3 * v];
-        float t[3] = {n[0], n[1], n[2]};
-        uint32_t s = job->start[v], e = job->start[v + 1], k = 1;
+        v4f n = load4(&S[4 * v]), t = n;
+        uint32_t s = start[v], e = start[v + 1], k = 1;
         for (uint32_t i = s; i < e; i++) {
-            const float *q = &S[3 * (size_t)job->nb[i]];
+            v4f q = load4(&S[4 * (size_t)nb[i]]), d = q * n;
             /* not across a thin sheet or droplet: its other side faces away */
-            if (!(q[0] * n[0] + q[1] * n[1] + q[2] * n[2] > 0.0f)) continue;
-            t[0] += q[0], t[1] += q[1], t[2] += q[2];
+            if (!(d[0] + d[1] + d[2] > 0.0f)) continue;
+            t += q;
             k++;
         }
         float inv = 1.0f / (float)k;
-        float *o = &job->dst[3 * v];
-        o[0] = t[0] * inv, o[1] = t[1] * inv, o[2] = t[2] * inv;
+        t *= inv;
+        memcpy(&job->dst[4 * v], &t, sizeof t);
     }
+}
+
+/* 3 floats per vertex to 4 (the fourth 0) and back. */
+static void widen(float *d, const float *s, size_t n)
+{
+    for (size_t v = 0; v < n; v++) d[4 * v] = s[3 * v], d[4 * v + 1] = s[3 * v + 1], d[4 * v + 2] = s[3 * v + 2], d[4 * v + 3] = 0.0f;
+}
+
+static void narrow(float *d, const float *s, size_t n)
+{
+    for (size_t v = 0; v < n; v++) d[3 * v] = s[4 * v], d[3 * v + 1] = s[4 * v + 1], d[3 * v + 2] = s[4 * v + 2];
 }
 
 /* Normalises the normals (if tau > 0; src the fallback) and sets the UVs. */
@@ -368,7 +388,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -513,7 +533,10 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
         piece_volumes(m, comp, vol0, ncomp);
 
-        float *a = m->pos, *b = buf, tau[CYCLE];
+        float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
+        float tau[CYCLE];
+        if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        widen(a, m->pos, nv);
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
@@ -525,7 +548,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
                 float *t = a; a = b; b = t;
             }
         }
-        if (a != m->pos) memcpy(m->pos, a, nv * 3 * sizeof *a);
+        narrow(m->pos, a, nv);
 
         /* restore each piece's volume: vertex v moves by w_v s along its
          * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
@@ -558,20 +581,22 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     }
 
     if (want_nrm) {
-        /* buf keeps the unsmoothed normals: the fallback of a sum that vanishes */
-        float *a = m->nrm, *b = buf, *keep = NULL;
+        /* keep holds the unsmoothed normals: the fallback of a sum that vanishes */
+        float *keep = NULL;
         if (niters > 0) {
             keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
-            if (!keep) { st = JM_E_OUT_OF_MEMORY; goto out; }
+            float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
+            if (!keep || !a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
+            widen(a, m->nrm, nv);
+            for (int it = 0; it < niters; it++) {
+                job.src = a;
+                job.dst = b;
+                jm_pool_run(pool, nchunks, 1, nstep_task, &job);
+                float *t = a; a = b; b = t;
+            }
+            narrow(m->nrm, a, nv);
         }
-        for (int it = 0; it < niters; it++) {
-            job.src = a;
-            job.dst = b;
-            jm_pool_run(pool, nchunks, 1, nstep_task, &job);
-            float *t = a; a = b; b = t;
-        }
-        if (a != m->nrm) memcpy(m->nrm, a, nv * 3 * sizeof *a);
         job.src = keep ? keep : m->nrm;
         job.tau = 1.0f; /* normalise */
         jm_pool_run(pool, nchunks, 1, finish_task, &job);
