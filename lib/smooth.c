@@ -69,6 +69,7 @@ typedef struct sm_job {
     const uint32_t *start; /* nv+1 offsets into nb, nc */
     const uint32_t *nb;    /* per incident triangle of v: the next corner */
     const uint32_t *nc;    /* ... and the one after it */
+    const float *inv;      /* per vertex: 1 / its number of neighbours */
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
@@ -253,47 +254,52 @@ static void step_task(void *arg, size_t chunk, int worker)
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
-    const float *S = job->src;
+    const float *S = job->src, *w = job->w, *inv = job->inv, tau = job->tau;
+    float *D = job->dst;
     const uint32_t *start = job->start, *nb = job->nb;
+    uint32_t e = start[a];
     for (size_t v = a; v < b; v++) {
         v4f p = load4(&S[4 * v]);
-        uint32_t s = start[v], e = start[v + 1];
-        float k = job->w[v] * job->tau;
-        if (e == s || k == 0.0f) {
-            memcpy(&job->dst[4 * v], &p, sizeof p);
-            continue;
+        uint32_t s = e;
+        e = start[v + 1];
+        float k = w[v] * tau;
+        if (k != 0.0f && e != s) {
+            v4f sum = load4(&S[4 * (size_t)nb[s]]);
+            uint32_t i = s + 1;
+            for (; i + 1 < e; i += 2) {
+                sum += load4(&S[4 * (size_t)nb[i]]);
+                sum += load4(&S[4 * (size_t)nb[i + 1]]);
+            }
+            if (i < e) sum += load4(&S[4 * (size_t)nb[i]]);
+            p += k * (sum * inv[v] - p);
         }
-        v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (uint32_t i = s; i < e; i++) sum += load4(&S[4 * (size_t)nb[i]]);
-        float inv = 1.0f / (float)(e - s);
-        v4f o = p + k * (sum * inv - p);
-        memcpy(&job->dst[4 * v], &o, sizeof o);
+        memcpy(&D[4 * v], &p, sizeof p);
     }
 }
 
-/* Area vector of each vertex's fan: the sum of its triangles' cross products / 2. */
+/* Area vector of each vertex's fan: the sum of its triangles' cross products
+ * / 2, from the positions job->src (4 floats per vertex). */
 static void area_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
-    const float *P = job->m->pos;
+    const float *P = job->src;
+    const uint32_t *start = job->start, *nb = job->nb, *nc = job->nc;
+    float *area = job->area;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     for (size_t v = a; v < b; v++) {
-        const float *p = &P[3 * v];
-        float n[3] = {0.0f, 0.0f, 0.0f};
-        for (uint32_t i = job->start[v]; i < job->start[v + 1]; i++) {
-            const float *q = &P[3 * (size_t)job->nb[i]], *s = &P[3 * (size_t)job->nc[i]];
-            float e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
-            n[0] += e1[1] * e2[2] - e1[2] * e2[1];
-            n[1] += e1[2] * e2[0] - e1[0] * e2[2];
-            n[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        v4f p = load4(&P[4 * v]), n = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (uint32_t i = start[v]; i < start[v + 1]; i++) {
+            v4f e1 = load4(&P[4 * (size_t)nb[i]]) - p, e2 = load4(&P[4 * (size_t)nc[i]]) - p;
+            n += __builtin_shufflevector(e1, e1, 1, 2, 0, 3) * __builtin_shufflevector(e2, e2, 2, 0, 1, 3) -
+                 __builtin_shufflevector(e1, e1, 2, 0, 1, 3) * __builtin_shufflevector(e2, e2, 1, 2, 0, 3);
         }
-        for (int k = 0; k < 3; k++) job->area[3 * v + k] = 0.5f * n[k];
+        for (int k = 0; k < 3; k++) area[3 * v + k] = 0.5f * n[k];
     }
 }
 
 /* Volume restoration: moves each vertex along its normal by its weight times
- * its piece's offset, capped. */
+ * its piece's offset, capped (positions job->dst, 4 floats per vertex). */
 static void offset_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
@@ -306,7 +312,7 @@ static void offset_task(void *arg, size_t chunk, int worker)
         memcpy(n, &job->area[3 * v], sizeof n);
         float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (!(l > 0.0f)) continue;
-        for (int k = 0; k < 3; k++) job->m->pos[3 * v + k] += s * n[k] / l;
+        for (int k = 0; k < 3; k++) job->dst[4 * v + k] += s * n[k] / l;
     }
 }
 
@@ -347,10 +353,13 @@ static void nstep_task(void *arg, size_t chunk, int worker)
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     const float *S = job->src;
+    float *D = job->dst;
     const uint32_t *start = job->start, *nb = job->nb;
+    uint32_t e = start[a];
     for (size_t v = a; v < b; v++) {
         v4f n = load4(&S[4 * v]), t = n;
-        uint32_t s = start[v], e = start[v + 1], k = 1;
+        uint32_t s = e, k = 1;
+        e = start[v + 1];
         for (uint32_t i = s; i < e; i++) {
             v4f q = load4(&S[4 * (size_t)nb[i]]), d = q * n;
             /* not across a thin sheet or droplet: its other side faces away */
@@ -360,7 +369,7 @@ static void nstep_task(void *arg, size_t chunk, int worker)
         }
         float inv = 1.0f / (float)k;
         t *= inv;
-        memcpy(&job->dst[4 * v], &t, sizeof t);
+        memcpy(&D[4 * v], &t, sizeof t);
     }
 }
 
@@ -388,7 +397,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -418,13 +427,14 @@ static uint32_t find_root(uint32_t *parent, uint32_t v)
     return v;
 }
 
-/* Signed volume of each connected piece (comp[] of a triangle's first corner). */
-static void piece_volumes(const jm_post_mesh *m, const uint32_t *comp, double *vol, size_t ncomp)
+/* Signed volume of each connected piece (comp[] of a triangle's first
+ * corner), from positions P of `stride` floats per vertex. */
+static void piece_volumes(const jm_post_mesh *m, const float *P, size_t stride, const uint32_t *comp, double *vol,
+                          size_t ncomp)
 {
     memset(vol, 0, ncomp * sizeof *vol);
-    const float *P = m->pos;
     for (size_t t = 0; t + 2 < m->ni_lattice; t += 3) {
-        const float *a = &P[3 * (size_t)m->idx[t]], *b = &P[3 * (size_t)m->idx[t + 1]], *c = &P[3 * (size_t)m->idx[t + 2]];
+        const float *a = &P[stride * m->idx[t]], *b = &P[stride * m->idx[t + 1]], *c = &P[stride * m->idx[t + 2]];
         double cx = (double)b[1] * c[2] - (double)b[2] * c[1];
         double cy = (double)b[2] * c[0] - (double)b[0] * c[2];
         double cz = (double)b[0] * c[1] - (double)b[1] * c[0];
@@ -487,6 +497,9 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     }
     memmove(start + 1, start, nv * sizeof *start);
     start[0] = 0;
+    float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
+    if (!inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    for (size_t v = 0; v < nv; v++) inv[v] = start[v + 1] > start[v] ? 1.0f / (float)(start[v + 1] - start[v]) : 0.0f;
 
     job.c = c;
     job.g = g;
@@ -496,6 +509,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.start = start;
     job.nb = nb;
     job.nc = nc;
+    job.inv = inv;
     job.w = w;
     job.area = NULL;
 
@@ -531,7 +545,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
-        piece_volumes(m, comp, vol0, ncomp);
+        piece_volumes(m, m->pos, 3, comp, vol0, ncomp);
 
         float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
         float tau[CYCLE];
@@ -548,19 +562,19 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
                 float *t = a; a = b; b = t;
             }
         }
-        narrow(m->pos, a, nv);
+        job.src = job.dst = a; /* the positions of the restoration */
 
         /* restore each piece's volume: vertex v moves by w_v s along its
          * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
         for (int pass = 0; pass < 2; pass++) {
             jm_pool_run(pool, nchunks, 1, area_task, &job);
-            piece_volumes(m, comp, vol1, ncomp);
+            piece_volumes(m, a, 4, comp, vol1, ncomp);
             memset(den, 0, 2 * ncomp * sizeof *den);
             for (size_t v = 0; v < nv; v++) {
                 const float *A = &area[3 * v];
-                double a = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
-                den[comp[v]] += (double)w[v] * a;
-                tot[comp[v]] += a;
+                double ar = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
+                den[comp[v]] += (double)w[v] * ar;
+                tot[comp[v]] += ar;
             }
             /* each vertex's offset at most 5 % of its piece's size (the square
              * root of its area): small voids that smoothing nearly closes
@@ -578,6 +592,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             jm_pool_run(pool, nchunks, 1, area_task, &job);
             jm_pool_run(pool, nchunks, 1, normal_task, &job);
         }
+        narrow(m->pos, a, nv);
     }
 
     if (want_nrm) {
