@@ -213,16 +213,23 @@ static void weight_task(void *arg, size_t chunk, int worker)
     sm_job *job = arg;
     const float inv_half = 2.0f * job->g->inv_cell;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    int64_t last[3] = {0, 0, 0};
+    int have = 0;
+    float c[8];
     for (size_t v = a; v < b; v++) {
         const float *p = &job->m->pos[3 * v];
         int64_t k0[3];
-        float t[3], c[8];
+        float t[3];
         for (int i = 0; i < 3; i++) {
             float q = p[i] * inv_half, fq = floorf(q);
             k0[i] = (int64_t)fq;
             t[i] = q - fq;
         }
-        for (int i = 0; i < 8; i++) {
+        /* consecutive vertices mostly share a half-cell: its corners again */
+        int same = have && k0[0] == last[0] && k0[1] == last[1] && k0[2] == last[2];
+        memcpy(last, k0, sizeof last);
+        have = 1;
+        for (int i = 0; i < 8 && !same; i++) {
             int64_t k[3] = {k0[0] + (i & 1), k0[1] + ((i >> 1) & 1), k0[2] + (i >> 2)};
             c[i] = corner_value(job, worker, k);
             if (c[i] < 0.0f) { job->failed = 1; return; }
@@ -248,6 +255,31 @@ static inline v4f load4(const float *p)
     return r;
 }
 
+/* The sum of the positions S (4 floats per vertex) of the neighbours nb[s],
+ * ..., nb[e - 1], in that order: straight-line code for up to 8 (the usual
+ * fan), a loop beyond. Starts from -0, which adds nothing to any float. */
+static inline v4f fan_sum(const float *S, const uint32_t *nb, uint32_t s, uint32_t e)
+{
+    v4f sum = {-0.0f, -0.0f, -0.0f, -0.0f};
+    const uint32_t *q = nb + e;
+#define ADD(j) sum += load4(&S[4 * (size_t)q[-(j)]])
+    switch (e - s) {
+    case 8: ADD(8); /* fall through */
+    case 7: ADD(7); /* fall through */
+    case 6: ADD(6); /* fall through */
+    case 5: ADD(5); /* fall through */
+    case 4: ADD(4); /* fall through */
+    case 3: ADD(3); /* fall through */
+    case 2: ADD(2); /* fall through */
+    case 1: ADD(1); /* fall through */
+    case 0: break;
+    default:
+        for (uint32_t i = s; i < e; i++) sum += load4(&S[4 * (size_t)nb[i]]);
+    }
+#undef ADD
+    return sum;
+}
+
 /* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per vertex. */
 static void step_task(void *arg, size_t chunk, int worker)
 {
@@ -263,16 +295,7 @@ static void step_task(void *arg, size_t chunk, int worker)
         uint32_t s = e;
         e = start[v + 1];
         float k = w[v] * tau;
-        if (k != 0.0f && e != s) {
-            v4f sum = load4(&S[4 * (size_t)nb[s]]);
-            uint32_t i = s + 1;
-            for (; i + 1 < e; i += 2) {
-                sum += load4(&S[4 * (size_t)nb[i]]);
-                sum += load4(&S[4 * (size_t)nb[i + 1]]);
-            }
-            if (i < e) sum += load4(&S[4 * (size_t)nb[i]]);
-            p += k * (sum * inv[v] - p);
-        }
+        if (k != 0.0f && e != s) p += k * (fan_sum(S, nb, s, e) * inv[v] - p);
         memcpy(&D[4 * v], &p, sizeof p);
     }
 }
@@ -360,13 +383,29 @@ static void nstep_task(void *arg, size_t chunk, int worker)
         v4f n = load4(&S[4 * v]), t = n;
         uint32_t s = e, k = 1;
         e = start[v + 1];
-        for (uint32_t i = s; i < e; i++) {
-            v4f q = load4(&S[4 * (size_t)nb[i]]), d = q * n;
-            /* not across a thin sheet or droplet: its other side faces away */
-            if (!(d[0] + d[1] + d[2] > 0.0f)) continue;
-            t += q;
-            k++;
+        const uint32_t *Q = nb + e;
+        /* not across a thin sheet or droplet: its other side faces away */
+#define ADD(q)                                         \
+    do {                                               \
+        v4f q_ = (q), d_ = q_ * n;                     \
+        if (d_[0] + d_[1] + d_[2] > 0.0f) t += q_, k++; \
+    } while (0)
+#define ADDJ(j) ADD(load4(&S[4 * (size_t)Q[-(j)]]))
+        switch (e - s) {
+        case 8: ADDJ(8); /* fall through */
+        case 7: ADDJ(7); /* fall through */
+        case 6: ADDJ(6); /* fall through */
+        case 5: ADDJ(5); /* fall through */
+        case 4: ADDJ(4); /* fall through */
+        case 3: ADDJ(3); /* fall through */
+        case 2: ADDJ(2); /* fall through */
+        case 1: ADDJ(1); /* fall through */
+        case 0: break;
+        default:
+            for (uint32_t i = s; i < e; i++) ADD(load4(&S[4 * (size_t)nb[i]]));
         }
+#undef ADDJ
+#undef ADD
         float inv = 1.0f / (float)k;
         t *= inv;
         memcpy(&D[4 * v], &t, sizeof t);
