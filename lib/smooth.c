@@ -45,7 +45,7 @@
 #define CYCLE 5    /* steps per super-time-stepping cycle */
 #define STS_NU 0.02
 #define NSLOT 16   /* cached particle neighbourhoods per worker */
-#define NCORNER 512 /* cached corner values per worker */
+#define NCORNER 4096 /* cached corner values per worker */
 
 typedef struct sm_slot {
     int64_t cell[3];
