@@ -70,6 +70,7 @@ typedef struct sm_job {
     const uint32_t *nb;    /* per incident triangle of v: the next corner */
     const uint32_t *nc;    /* ... and the one after it */
     const float *inv;      /* per vertex: 1 / its number of neighbours */
+    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel) */
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
@@ -297,14 +298,32 @@ JM_SM_CLONES static void step_task(void *arg, size_t chunk, int worker)
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     const float *S = job->src, *w = job->w, *inv = job->inv, tau = job->tau;
     float *D = job->dst;
-    const uint32_t *start = job->start, *nb = job->nb;
+    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
     uint32_t e = start[a];
     for (size_t v = a; v < b; v++) {
         v4f p = load4(&S[4 * v]);
         uint32_t s = e;
         e = start[v + 1];
         float k = w[v] * tau;
-        if (k != 0.0f && e != s) p += k * (fan_sum(S, nb, s, e) * inv[v] - p);
+        if (k != 0.0f && e != s) {
+            v4f sum;
+            if (e - s <= 8) {
+                /* no branch on the degree: a misprediction costs more than
+                 * adding the -0 of the sentinel */
+                const uint32_t *q = &nb8[8 * v];
+                sum = load4(&S[4 * (size_t)q[0]]);
+                sum += load4(&S[4 * (size_t)q[1]]);
+                sum += load4(&S[4 * (size_t)q[2]]);
+                sum += load4(&S[4 * (size_t)q[3]]);
+                sum += load4(&S[4 * (size_t)q[4]]);
+                sum += load4(&S[4 * (size_t)q[5]]);
+                sum += load4(&S[4 * (size_t)q[6]]);
+                sum += load4(&S[4 * (size_t)q[7]]);
+            } else {
+                sum = fan_sum(S, nb, s, e);
+            }
+            p += k * (sum * inv[v] - p);
+        }
         memcpy(&D[4 * v], &p, sizeof p);
     }
 }
@@ -445,7 +464,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8 };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -595,10 +614,18 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
         piece_volumes(m, m->pos, 3, comp, vol0, ncomp);
 
-        float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
+        /* the wide positions have a sentinel vertex nv of -0, which adds
+         * nothing to any float: the padding of the fixed fans of 8 */
+        float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
+        float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
+        uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
         float tau[CYCLE];
-        if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        if (!a || !b || !nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
+        for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+        for (size_t v = 0; v < nv; v++)
+            for (uint32_t j = 0; j < 8; j++) nb8[8 * v + j] = start[v] + j < start[v + 1] ? nb[start[v] + j] : (uint32_t)nv;
+        job.nb8 = nb8;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
