@@ -248,7 +248,6 @@ static void weight_task(void *arg, size_t chunk, int worker)
  * do the same operations in the same order as scalar code would: the same
  * bits. */
 typedef float v4f __attribute__((vector_size(16)));
-typedef int32_t v4i __attribute__((vector_size(16)));
 
 /* The steps and fan areas also cloned for AVX2 (three-operand instructions,
  * fewer register copies), chosen at run time: the same operations, no FMA in
@@ -406,37 +405,34 @@ JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     const float *S = job->src;
     float *D = job->dst;
-    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
-    const v4i neg0 = {INT32_MIN, INT32_MIN, INT32_MIN, INT32_MIN}; /* -0.0f */
+    const uint32_t *start = job->start, *nb = job->nb;
     uint32_t e = start[a];
     for (size_t v = a; v < b; v++) {
         v4f n = load4(&S[4 * v]), t = n;
         uint32_t s = e, k = 1;
         e = start[v + 1];
-        /* not across a thin sheet or droplet: its other side faces away.
-         * Fans of up to 8 without branches: a neighbour facing away (or the
-         * -0 sentinel) adds -0, which changes no float. */
-#define ADD(q)                                                        \
-    do {                                                              \
-        v4f q_ = (q), d_ = q_ * n;                                    \
-        int c_ = d_[0] + d_[1] + d_[2] > 0.0f;                        \
-        v4i m_ = {-c_, -c_, -c_, -c_};                                \
-        t += (v4f)(((v4i)q_ & m_) | (neg0 & ~m_));                    \
-        k += (uint32_t)c_;                                            \
+        const uint32_t *Q = nb + e;
+        /* not across a thin sheet or droplet: its other side faces away */
+#define ADD(q)                                         \
+    do {                                               \
+        v4f q_ = (q), d_ = q_ * n;                     \
+        if (d_[0] + d_[1] + d_[2] > 0.0f) t += q_, k++; \
     } while (0)
-        if (e - s <= 8) {
-            const uint32_t *q = &nb8[8 * v];
-            ADD(load4(&S[4 * (size_t)q[0]]));
-            ADD(load4(&S[4 * (size_t)q[1]]));
-            ADD(load4(&S[4 * (size_t)q[2]]));
-            ADD(load4(&S[4 * (size_t)q[3]]));
-            ADD(load4(&S[4 * (size_t)q[4]]));
-            ADD(load4(&S[4 * (size_t)q[5]]));
-            ADD(load4(&S[4 * (size_t)q[6]]));
-            ADD(load4(&S[4 * (size_t)q[7]]));
-        } else {
+#define ADDJ(j) ADD(load4(&S[4 * (size_t)Q[-(j)]]))
+        switch (e - s) {
+        case 8: ADDJ(8); /* fall through */
+        case 7: ADDJ(7); /* fall through */
+        case 6: ADDJ(6); /* fall through */
+        case 5: ADDJ(5); /* fall through */
+        case 4: ADDJ(4); /* fall through */
+        case 3: ADDJ(3); /* fall through */
+        case 2: ADDJ(2); /* fall through */
+        case 1: ADDJ(1); /* fall through */
+        case 0: break;
+        default:
             for (uint32_t i = s; i < e; i++) ADD(load4(&S[4 * (size_t)nb[i]]));
         }
+#undef ADDJ
 #undef ADD
         float inv = 1.0f / (float)k;
         t *= inv;
@@ -571,12 +567,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
     if (!inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
     for (size_t v = 0; v < nv; v++) inv[v] = start[v + 1] > start[v] ? 1.0f / (float)(start[v + 1] - start[v]) : 0.0f;
-    /* the first 8 neighbours of each vertex, padded with nv: the sentinel
-     * vertex of the wide positions and normals */
-    uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
-    if (!nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    for (size_t v = 0; v < nv; v++)
-        for (uint32_t j = 0; j < 8; j++) nb8[8 * v + j] = start[v] + j < start[v + 1] ? nb[start[v] + j] : (uint32_t)nv;
 
     job.c = c;
     job.g = g;
@@ -587,7 +577,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.nb = nb;
     job.nc = nc;
     job.inv = inv;
-    job.nb8 = nb8;
     job.w = w;
     job.area = NULL;
 
@@ -629,10 +618,14 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
          * nothing to any float: the padding of the fixed fans of 8 */
         float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
         float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
+        uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
         float tau[CYCLE];
-        if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        if (!a || !b || !nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+        for (size_t v = 0; v < nv; v++)
+            for (uint32_t j = 0; j < 8; j++) nb8[8 * v + j] = start[v] + j < start[v + 1] ? nb[start[v] + j] : (uint32_t)nv;
+        job.nb8 = nb8;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
@@ -682,12 +675,10 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         float *keep = NULL;
         if (niters > 0) {
             keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
-            float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
-            float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
+            float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
             if (!keep || !a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
             widen(a, m->nrm, nv);
-            for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
             for (int it = 0; it < niters; it++) {
                 job.src = a;
                 job.dst = b;
