@@ -623,8 +623,12 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         if (!a || !b || !nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
-        for (size_t v = 0; v < nv; v++)
-            for (uint32_t j = 0; j < 8; j++) nb8[8 * v + j] = start[v] + j < start[v + 1] ? nb[start[v] + j] : (uint32_t)nv;
+        for (size_t v = 0; v < nv; v++) {
+            uint32_t d = start[v + 1] - start[v], j = 0;
+            if (d > 8) d = 8;
+            for (; j < d; j++) nb8[8 * v + j] = nb[start[v] + j];
+            for (; j < 8; j++) nb8[8 * v + j] = (uint32_t)nv;
+        }
         job.nb8 = nb8;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
