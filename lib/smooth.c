@@ -45,7 +45,7 @@
 #define CYCLE 5    /* steps per super-time-stepping cycle */
 #define STS_NU 0.02
 #define NSLOT 16   /* cached particle neighbourhoods per worker */
-#define NCORNER 512 /* cached corner values per worker */
+#define NCORNER 4096 /* cached corner values per worker */
 
 typedef struct sm_slot {
     int64_t cell[3];
@@ -69,6 +69,8 @@ typedef struct sm_job {
     const uint32_t *start; /* nv+1 offsets into nb, nc */
     const uint32_t *nb;    /* per incident triangle of v: the next corner */
     const uint32_t *nc;    /* ... and the one after it */
+    const float *inv;      /* per vertex: 1 / its number of neighbours */
+    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel) */
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
@@ -212,16 +214,23 @@ static void weight_task(void *arg, size_t chunk, int worker)
     sm_job *job = arg;
     const float inv_half = 2.0f * job->g->inv_cell;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    int64_t last[3] = {0, 0, 0};
+    int have = 0;
+    float c[8];
     for (size_t v = a; v < b; v++) {
         const float *p = &job->m->pos[3 * v];
         int64_t k0[3];
-        float t[3], c[8];
+        float t[3];
         for (int i = 0; i < 3; i++) {
             float q = p[i] * inv_half, fq = floorf(q);
             k0[i] = (int64_t)fq;
             t[i] = q - fq;
         }
-        for (int i = 0; i < 8; i++) {
+        /* consecutive vertices mostly share a half-cell: its corners again */
+        int same = have && k0[0] == last[0] && k0[1] == last[1] && k0[2] == last[2];
+        memcpy(last, k0, sizeof last);
+        have = 1;
+        for (int i = 0; i < 8 && !same; i++) {
             int64_t k[3] = {k0[0] + (i & 1), k0[1] + ((i >> 1) & 1), k0[2] + (i >> 2)};
             c[i] = corner_value(job, worker, k);
             if (c[i] < 0.0f) { job->failed = 1; return; }
@@ -234,57 +243,114 @@ static void weight_task(void *arg, size_t chunk, int worker)
     }
 }
 
-/* One step: dst = src + tau w (mean of the neighbours - src). */
-static void step_task(void *arg, size_t chunk, int worker)
+/* Positions and normals while they are smoothed: 4 floats per vertex (the
+ * fourth 0), so a neighbour is one 16-byte load and one vector add. The lanes
+ * do the same operations in the same order as scalar code would: the same
+ * bits. */
+typedef float v4f __attribute__((vector_size(16)));
+
+/* The steps and fan areas also cloned for AVX2 (three-operand instructions,
+ * fewer register copies), chosen at run time: the same operations, no FMA in
+ * ISO C mode, the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
+#define JM_SM_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define JM_SM_CLONES
+#endif
+
+static inline v4f load4(const float *p)
+{
+    v4f r;
+    memcpy(&r, p, sizeof r);
+    return r;
+}
+
+/* The sum of the positions S (4 floats per vertex) of the neighbours nb[s],
+ * ..., nb[e - 1], in that order: straight-line code for up to 8 (the usual
+ * fan), a loop beyond. Starts from -0, which adds nothing to any float. */
+static inline v4f fan_sum(const float *S, const uint32_t *nb, uint32_t s, uint32_t e)
+{
+    v4f sum = {-0.0f, -0.0f, -0.0f, -0.0f};
+    const uint32_t *q = nb + e;
+#define ADD(j) sum += load4(&S[4 * (size_t)q[-(j)]])
+    switch (e - s) {
+    case 8: ADD(8); /* fall through */
+    case 7: ADD(7); /* fall through */
+    case 6: ADD(6); /* fall through */
+    case 5: ADD(5); /* fall through */
+    case 4: ADD(4); /* fall through */
+    case 3: ADD(3); /* fall through */
+    case 2: ADD(2); /* fall through */
+    case 1: ADD(1); /* fall through */
+    case 0: break;
+    default:
+        for (uint32_t i = s; i < e; i++) sum += load4(&S[4 * (size_t)nb[i]]);
+    }
+#undef ADD
+    return sum;
+}
+
+/* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per vertex. */
+JM_SM_CLONES static void step_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
-    const float *S = job->src;
+    const float *S = job->src, *w = job->w, *inv = job->inv, tau = job->tau;
+    float *D = job->dst;
+    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
+    uint32_t e = start[a];
     for (size_t v = a; v < b; v++) {
-        const float *p = &S[3 * v];
-        float *o = &job->dst[3 * v];
-        uint32_t s = job->start[v], e = job->start[v + 1];
-        float k = job->w[v] * job->tau;
-        if (e == s || k == 0.0f) {
-            o[0] = p[0], o[1] = p[1], o[2] = p[2];
-            continue;
+        v4f p = load4(&S[4 * v]);
+        uint32_t s = e;
+        e = start[v + 1];
+        float k = w[v] * tau;
+        if (k != 0.0f && e != s) {
+            v4f sum;
+            if (e - s <= 8) {
+                /* no branch on the degree: a misprediction costs more than
+                 * adding the -0 of the sentinel */
+                const uint32_t *q = &nb8[8 * v];
+                sum = load4(&S[4 * (size_t)q[0]]);
+                sum += load4(&S[4 * (size_t)q[1]]);
+                sum += load4(&S[4 * (size_t)q[2]]);
+                sum += load4(&S[4 * (size_t)q[3]]);
+                sum += load4(&S[4 * (size_t)q[4]]);
+                sum += load4(&S[4 * (size_t)q[5]]);
+                sum += load4(&S[4 * (size_t)q[6]]);
+                sum += load4(&S[4 * (size_t)q[7]]);
+            } else {
+                sum = fan_sum(S, nb, s, e);
+            }
+            p += k * (sum * inv[v] - p);
         }
-        float sx = 0.0f, sy = 0.0f, sz = 0.0f;
-        for (uint32_t i = s; i < e; i++) {
-            const float *q = &S[3 * (size_t)job->nb[i]];
-            sx += q[0], sy += q[1], sz += q[2];
-        }
-        float inv = 1.0f / (float)(e - s);
-        o[0] = p[0] + k * (sx * inv - p[0]);
-        o[1] = p[1] + k * (sy * inv - p[1]);
-        o[2] = p[2] + k * (sz * inv - p[2]);
+        memcpy(&D[4 * v], &p, sizeof p);
     }
 }
 
-/* Area vector of each vertex's fan: the sum of its triangles' cross products / 2. */
-static void area_task(void *arg, size_t chunk, int worker)
+/* Area vector of each vertex's fan: the sum of its triangles' cross products
+ * / 2, from the positions job->src (4 floats per vertex). */
+JM_SM_CLONES static void area_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
-    const float *P = job->m->pos;
+    const float *P = job->src;
+    const uint32_t *start = job->start, *nb = job->nb, *nc = job->nc;
+    float *area = job->area;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     for (size_t v = a; v < b; v++) {
-        const float *p = &P[3 * v];
-        float n[3] = {0.0f, 0.0f, 0.0f};
-        for (uint32_t i = job->start[v]; i < job->start[v + 1]; i++) {
-            const float *q = &P[3 * (size_t)job->nb[i]], *s = &P[3 * (size_t)job->nc[i]];
-            float e1[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, e2[3] = {s[0] - p[0], s[1] - p[1], s[2] - p[2]};
-            n[0] += e1[1] * e2[2] - e1[2] * e2[1];
-            n[1] += e1[2] * e2[0] - e1[0] * e2[2];
-            n[2] += e1[0] * e2[1] - e1[1] * e2[0];
+        v4f p = load4(&P[4 * v]), n = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (uint32_t i = start[v]; i < start[v + 1]; i++) {
+            v4f e1 = load4(&P[4 * (size_t)nb[i]]) - p, e2 = load4(&P[4 * (size_t)nc[i]]) - p;
+            n += __builtin_shufflevector(e1, e1, 1, 2, 0, 3) * __builtin_shufflevector(e2, e2, 2, 0, 1, 3) -
+                 __builtin_shufflevector(e1, e1, 2, 0, 1, 3) * __builtin_shufflevector(e2, e2, 1, 2, 0, 3);
         }
-        for (int k = 0; k < 3; k++) job->area[3 * v + k] = 0.5f * n[k];
+        for (int k = 0; k < 3; k++) area[3 * v + k] = 0.5f * n[k];
     }
 }
 
 /* Volume restoration: moves each vertex along its normal by its weight times
- * its piece's offset, capped. */
+ * its piece's offset, capped (positions job->dst, 4 floats per vertex). */
 static void offset_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
@@ -297,7 +363,7 @@ static void offset_task(void *arg, size_t chunk, int worker)
         memcpy(n, &job->area[3 * v], sizeof n);
         float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (!(l > 0.0f)) continue;
-        for (int k = 0; k < 3; k++) job->m->pos[3 * v + k] += s * n[k] / l;
+        for (int k = 0; k < 3; k++) job->dst[4 * v + k] += s * n[k] / l;
     }
 }
 
@@ -331,28 +397,58 @@ static void normal_task(void *arg, size_t chunk, int worker)
 
 /* One step of normal smoothing: the mean of the vertex's normal and those of
  * its neighbours that face the same side (directions only; normalised after
- * the last step). */
-static void nstep_task(void *arg, size_t chunk, int worker)
+ * the last step), 4 floats per vertex. */
+JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     const float *S = job->src;
+    float *D = job->dst;
+    const uint32_t *start = job->start, *nb = job->nb;
+    uint32_t e = start[a];
     for (size_t v = a; v < b; v++) {
-        const float *n = &S[3 * v];
-        float t[3] = {n[0], n[1], n[2]};
-        uint32_t s = job->start[v], e = job->start[v + 1], k = 1;
-        for (uint32_t i = s; i < e; i++) {
-            const float *q = &S[3 * (size_t)job->nb[i]];
-            /* not across a thin sheet or droplet: its other side faces away */
-            if (!(q[0] * n[0] + q[1] * n[1] + q[2] * n[2] > 0.0f)) continue;
-            t[0] += q[0], t[1] += q[1], t[2] += q[2];
-            k++;
+        v4f n = load4(&S[4 * v]), t = n;
+        uint32_t s = e, k = 1;
+        e = start[v + 1];
+        const uint32_t *Q = nb + e;
+        /* not across a thin sheet or droplet: its other side faces away */
+#define ADD(q)                                         \
+    do {                                               \
+        v4f q_ = (q), d_ = q_ * n;                     \
+        if (d_[0] + d_[1] + d_[2] > 0.0f) t += q_, k++; \
+    } while (0)
+#define ADDJ(j) ADD(load4(&S[4 * (size_t)Q[-(j)]]))
+        switch (e - s) {
+        case 8: ADDJ(8); /* fall through */
+        case 7: ADDJ(7); /* fall through */
+        case 6: ADDJ(6); /* fall through */
+        case 5: ADDJ(5); /* fall through */
+        case 4: ADDJ(4); /* fall through */
+        case 3: ADDJ(3); /* fall through */
+        case 2: ADDJ(2); /* fall through */
+        case 1: ADDJ(1); /* fall through */
+        case 0: break;
+        default:
+            for (uint32_t i = s; i < e; i++) ADD(load4(&S[4 * (size_t)nb[i]]));
         }
+#undef ADDJ
+#undef ADD
         float inv = 1.0f / (float)k;
-        float *o = &job->dst[3 * v];
-        o[0] = t[0] * inv, o[1] = t[1] * inv, o[2] = t[2] * inv;
+        t *= inv;
+        memcpy(&D[4 * v], &t, sizeof t);
     }
+}
+
+/* 3 floats per vertex to 4 (the fourth 0) and back. */
+static void widen(float *d, const float *s, size_t n)
+{
+    for (size_t v = 0; v < n; v++) d[4 * v] = s[3 * v], d[4 * v + 1] = s[3 * v + 1], d[4 * v + 2] = s[3 * v + 2], d[4 * v + 3] = 0.0f;
+}
+
+static void narrow(float *d, const float *s, size_t n)
+{
+    for (size_t v = 0; v < n; v++) d[3 * v] = s[4 * v], d[3 * v + 1] = s[4 * v + 1], d[3 * v + 2] = s[4 * v + 2];
 }
 
 /* Normalises the normals (if tau > 0; src the fallback) and sets the UVs. */
@@ -368,7 +464,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8 };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -398,13 +494,14 @@ static uint32_t find_root(uint32_t *parent, uint32_t v)
     return v;
 }
 
-/* Signed volume of each connected piece (comp[] of a triangle's first corner). */
-static void piece_volumes(const jm_post_mesh *m, const uint32_t *comp, double *vol, size_t ncomp)
+/* Signed volume of each connected piece (comp[] of a triangle's first
+ * corner), from positions P of `stride` floats per vertex. */
+static void piece_volumes(const jm_post_mesh *m, const float *P, size_t stride, const uint32_t *comp, double *vol,
+                          size_t ncomp)
 {
     memset(vol, 0, ncomp * sizeof *vol);
-    const float *P = m->pos;
     for (size_t t = 0; t + 2 < m->ni_lattice; t += 3) {
-        const float *a = &P[3 * (size_t)m->idx[t]], *b = &P[3 * (size_t)m->idx[t + 1]], *c = &P[3 * (size_t)m->idx[t + 2]];
+        const float *a = &P[stride * m->idx[t]], *b = &P[stride * m->idx[t + 1]], *c = &P[stride * m->idx[t + 2]];
         double cx = (double)b[1] * c[2] - (double)b[2] * c[1];
         double cy = (double)b[2] * c[0] - (double)b[0] * c[2];
         double cz = (double)b[0] * c[1] - (double)b[1] * c[0];
@@ -467,6 +564,9 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     }
     memmove(start + 1, start, nv * sizeof *start);
     start[0] = 0;
+    float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
+    if (!inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    for (size_t v = 0; v < nv; v++) inv[v] = start[v + 1] > start[v] ? 1.0f / (float)(start[v + 1] - start[v]) : 0.0f;
 
     job.c = c;
     job.g = g;
@@ -476,6 +576,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.start = start;
     job.nb = nb;
     job.nc = nc;
+    job.inv = inv;
     job.w = w;
     job.area = NULL;
 
@@ -511,9 +612,24 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
-        piece_volumes(m, comp, vol0, ncomp);
+        piece_volumes(m, m->pos, 3, comp, vol0, ncomp);
 
-        float *a = m->pos, *b = buf, tau[CYCLE];
+        /* the wide positions have a sentinel vertex nv of -0, which adds
+         * nothing to any float: the padding of the fixed fans of 8 */
+        float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
+        float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
+        uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
+        float tau[CYCLE];
+        if (!a || !b || !nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        widen(a, m->pos, nv);
+        for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+        for (size_t v = 0; v < nv; v++) {
+            uint32_t d = start[v + 1] - start[v], j = 0;
+            if (d > 8) d = 8;
+            for (; j < d; j++) nb8[8 * v + j] = nb[start[v] + j];
+            for (; j < 8; j++) nb8[8 * v + j] = (uint32_t)nv;
+        }
+        job.nb8 = nb8;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
@@ -525,19 +641,19 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
                 float *t = a; a = b; b = t;
             }
         }
-        if (a != m->pos) memcpy(m->pos, a, nv * 3 * sizeof *a);
+        job.src = job.dst = a; /* the positions of the restoration */
 
         /* restore each piece's volume: vertex v moves by w_v s along its
          * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
         for (int pass = 0; pass < 2; pass++) {
             jm_pool_run(pool, nchunks, 1, area_task, &job);
-            piece_volumes(m, comp, vol1, ncomp);
+            piece_volumes(m, a, 4, comp, vol1, ncomp);
             memset(den, 0, 2 * ncomp * sizeof *den);
             for (size_t v = 0; v < nv; v++) {
                 const float *A = &area[3 * v];
-                double a = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
-                den[comp[v]] += (double)w[v] * a;
-                tot[comp[v]] += a;
+                double ar = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
+                den[comp[v]] += (double)w[v] * ar;
+                tot[comp[v]] += ar;
             }
             /* each vertex's offset at most 5 % of its piece's size (the square
              * root of its area): small voids that smoothing nearly closes
@@ -555,23 +671,26 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             jm_pool_run(pool, nchunks, 1, area_task, &job);
             jm_pool_run(pool, nchunks, 1, normal_task, &job);
         }
+        narrow(m->pos, a, nv);
     }
 
     if (want_nrm) {
-        /* buf keeps the unsmoothed normals: the fallback of a sum that vanishes */
-        float *a = m->nrm, *b = buf, *keep = NULL;
+        /* keep holds the unsmoothed normals: the fallback of a sum that vanishes */
+        float *keep = NULL;
         if (niters > 0) {
             keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
-            if (!keep) { st = JM_E_OUT_OF_MEMORY; goto out; }
+            float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
+            if (!keep || !a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
+            widen(a, m->nrm, nv);
+            for (int it = 0; it < niters; it++) {
+                job.src = a;
+                job.dst = b;
+                jm_pool_run(pool, nchunks, 1, nstep_task, &job);
+                float *t = a; a = b; b = t;
+            }
+            narrow(m->nrm, a, nv);
         }
-        for (int it = 0; it < niters; it++) {
-            job.src = a;
-            job.dst = b;
-            jm_pool_run(pool, nchunks, 1, nstep_task, &job);
-            float *t = a; a = b; b = t;
-        }
-        if (a != m->nrm) memcpy(m->nrm, a, nv * 3 * sizeof *a);
         job.src = keep ? keep : m->nrm;
         job.tau = 1.0f; /* normalise */
         jm_pool_run(pool, nchunks, 1, finish_task, &job);
