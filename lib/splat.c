@@ -22,6 +22,29 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
     }
 }
 
+/* What both bodies below start with: xp, the nodes' x continued past n at
+ * the spacing h; pad cleared; box, the block's nodes widened by R. */
+#define ROWS_SETUP                                                                                         \
+    float xp[JM_PAD_MAX];                                                                                  \
+    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;                \
+    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                           \
+    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);                                                      \
+    const float box[6] = {x[0] - R, x[n - 1] + R, y[0] - R, y[n - 1] + R, z[0] - R, z[n - 1] + R};
+
+/* Whether particle p (at q) counts for the block: inside box, not
+ * isolated, and its support R covers some nodes, whose index ranges per
+ * axis it then gives. */
+INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box[6], const float *x, const float *y,
+                   const float *z, int n, float inv_h, float R, int *i0, int *i1, int *j0, int *j1, int *k0, int *k1)
+{
+    if (q[0] < box[0] || q[0] > box[1] || q[1] < box[2] || q[1] > box[3] || q[2] < box[4] || q[2] > box[5]) return 0;
+    if (g->isolated[p]) return 0;
+    node_span(x, n, inv_h, q[0] - R, q[0] + R, i0, i1);
+    node_span(y, n, inv_h, q[1] - R, q[1] + R, j0, j1);
+    node_span(z, n, inv_h, q[2] - R, q[2] + R, k0, k1);
+    return *i0 < *i1 && *j0 < *j1 && *k0 < *k1;
+}
+
 /* Splats every particle of the hood whose support reaches the block into
  * pad, whose rows are JM_PAD(n) >= n + 7 long, in runs of 8 nodes from the
  * start of the support's chord: one or two vector steps per row (the lanes
@@ -29,23 +52,13 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
 #define SAMPLE_BODY(ROW, SPANNED)                                                                          \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
-    float xp[JM_PAD_MAX];                                                                                  \
-    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;                \
-    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                           \
-    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);                                                      \
-    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R;                   \
-    const float bz0 = z[0] - R, bz1 = z[n - 1] + R;                                                        \
+    ROWS_SETUP                                                                                             \
     for (size_t k = 0; k < cells; k++) {                                                                   \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
             const float *q = GP(g, p);                                                                     \
-            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue; \
-            if (g->isolated[p]) continue;                                                                  \
-            const float wgt = g->weight[p];                                                                \
             int i0, i1, j0, j1, k0, k1;                                                                    \
-            node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);                                          \
-            node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);                                          \
-            node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);                                          \
-            if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;                                                \
+            if (!reaches(g, p, q, box, x, y, z, n, inv_h, R, &i0, &i1, &j0, &j1, &k0, &k1)) continue;       \
+            const float wgt = g->weight[p];                                                                \
             const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
@@ -94,23 +107,13 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
     const float Kh = ((float)K + 0.53f) * h;                                                               \
     const float Rw2 = fminf(Rp * Rp, R * R - Kh * Kh);                                                     \
     (void)span;                                                                                            \
-    float xp[JM_PAD_MAX];                                                                                  \
-    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;                \
-    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                           \
-    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);                                                      \
-    const float bx0 = x[0] - R, bx1 = x[n - 1] + R, by0 = y[0] - R, by1 = y[n - 1] + R;                   \
-    const float bz0 = z[0] - R, bz1 = z[n - 1] + R;                                                        \
+    ROWS_SETUP                                                                                             \
     for (size_t k = 0; k < cells && Rw2 > 0.0f; k++) {                                                     \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
             const float *q = GP(g, p);                                                                     \
-            if (q[0] < bx0 || q[0] > bx1 || q[1] < by0 || q[1] > by1 || q[2] < bz0 || q[2] > bz1) continue; \
-            if (g->isolated[p]) continue;                                                                  \
-            const float wgt = g->weight[p];                                                                \
             int i0, i1, j0, j1, k0, k1;                                                                    \
-            node_span(x, n, inv_h, q[0] - R, q[0] + R, &i0, &i1);                                          \
-            node_span(y, n, inv_h, q[1] - R, q[1] + R, &j0, &j1);                                          \
-            node_span(z, n, inv_h, q[2] - R, q[2] + R, &k0, &k1);                                          \
-            if (i0 >= i1 || j0 >= j1 || k0 >= k1) continue;                                                \
+            if (!reaches(g, p, q, box, x, y, z, n, inv_h, R, &i0, &i1, &j0, &j1, &k0, &k1)) continue;       \
+            const float wgt = g->weight[p];                                                                \
             const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
             const int ic = ifloor(cx + 0.5f);                                                              \
             const int a = ic - K > i0 ? ic - K : i0, b = ic + K + 1 < i1 ? ic + K + 1 : i1;                \
