@@ -59,6 +59,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->order);
     free(s->an_list.buf);
     jm_probe_free(&s->probe);
+    jm_mnorm_free(&s->mnorm);
     free(s->part);
     free(s->span);
     memset(s, 0, sizeof *s);
@@ -152,7 +153,7 @@ static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand
 static void cand_blend(const jm_config *c, const cand_pt *cp, float out[3])
 {
     const int w = cp->w;
-    const float wt = cp->v[1 - w] > cp->v[w] - c->mv_tau ? jm_meta_weight(c, cp->v[w] - cp->v[1 - w], cp->nk[w], cp->nk[1 - w]) : 0.0f;
+    const float wt = cp->v[1 - w] > cp->v[w] - c->mv_tau ? jm_meta_weight(c, cp->v[w] - cp->v[1 - w]) : 0.0f;
     if (!(wt > 0.0f)) {
         memcpy(out, cp->nk[w], 3 * sizeof *out);
         return;
@@ -228,16 +229,6 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
         t = tn;
     }
     return t;
-}
-
-/* Metasphere normal at p (see cand_eval). */
-static void cand_normal(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float nrm[3])
-{
-    float n[3], glen;
-    uint32_t win;
-    cand_pt cp;
-    if (cand_eval(g, c, cand, p, n, &glen, &cp, &win) == -INFINITY) return;
-    cand_blend(c, &cp, nrm);
 }
 
 /* Sorts (slot, index) pairs by slot. They are made in scan order, so
@@ -486,12 +477,12 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             float sign = fa > thr ? 1.0f : -1.0f, inv = 1.0f / sqrtf((float)(dv[0] + dv[1] + dv[2]));
                             float *nr = &out->nrm[3 * out->nv];
                             for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
-                            if (meta && want_nrm) {
-                                /* reuse the normal of the refinement's last
-                                 * evaluation when it was at this very point */
-                                if (have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
-                                else cand_normal(g, c, cv, p, nr);
-                            }
+                            /* the metasphere's normals are blended from
+                             * every piece near the vertex once the block is
+                             * done (jm_meta_normals); until then, the
+                             * refinement's last evaluation where it was at
+                             * this very point */
+                            if (meta && want_nrm && have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
                             ref = (uint32_t)out->nv++;
                             if (ni == 0 || nj == 0 || nk == 0) {
                                 if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {
@@ -533,8 +524,13 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos,
-                               want_nrm ? out->nrm : NULL, out->cand, out->nv)) {
+    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos, NULL, out->cand,
+                               out->nv)) {
+        out->failed = 1;
+        return;
+    }
+    if (meta && want_nrm && !jm_meta_normals(g, c, &s->hood, &s->probe, &s->mnorm, B, s->x, s->y, s->z, out->pos,
+                                             out->nrm, out->nv)) {
         out->failed = 1;
         return;
     }

@@ -127,11 +127,12 @@
  * coincide at a node.
  *
  * Normals: SPH, the normalised gradient of phi. Metasphere, the outward
- * unit normal of the winning piece; where two pieces meet in a crease, the
- * other's is added with weight smoothstep(1 - gap / span) (gap: how far its
- * value lies below the winner's; span: half r times the distance between
- * their unit normals, at most 0.5), which shades every crease as a fillet
- * about r/2 wide on each side whatever its angle, smoothly (C1). Where
+ * unit normals of every ball and neck whose value at the vertex comes
+ * within 0.4 of the threshold, each weighted by smoothstep(1 - gap / 0.4)
+ * (gap: how far its value lies below the threshold), normalised: the
+ * gradient of a smooth maximum of the pieces, which shades every crease as
+ * a fillet, smoothly (C1), with no step between neighbouring vertices
+ * (every piece is evaluated at every vertex of its block for this). Where
  * the surface bends more sharply than the cubes follow, a normal pointing
  * away from one of its triangles (cosine under 0.02) is turned toward them
  * until it faces them all where possible: on dense lattices over 99.5 % of

@@ -4,7 +4,7 @@
 #include <string.h>
 
 /* normals blend no piece more than this below the maximum */
-#define MV_GAP 0.5f
+#define MV_GAP 0.4f
 
 /* How far from its particle a piece can exceed `level`: a half-neck at s
  * along its axis reaches sqrt(s^2 + q^2) < s + r (cos(s/r) - level), which
@@ -32,8 +32,8 @@ void jm_metavertex_config(jm_config *c)
     /* the probe settles again a vertex off the surface by more than this
      * (about 1.5 % of the jet's vertices; 0.8 % are off by more than 0.02) */
     c->mv_check = 0.0125f;
-    /* normals blend pieces up to JM_MV_BAND r from where they meet (see
-     * jm_meta_weight), none more than this below the maximum */
+    /* normals blend the pieces within this of the maximum (see
+     * jm_meta_weight and jm_meta_normals) */
     c->mv_tau = MV_GAP;
     float reach = reach_of(c, c->threshold - c->mv_tau);
     c->mv_reach2 = reach * reach;
@@ -56,7 +56,7 @@ void jm_meta_blend(const jm_config *c, int n, const float *v, const float (*nk)[
     int blended = 0;
     for (int k = 0; k < n; k++) {
         if (k == top) continue;
-        float w = jm_meta_weight(c, v[top] - v[k], nt, nk[k]);
+        float w = jm_meta_weight(c, v[top] - v[k]);
         if (!(w > 0.0f)) continue;
         for (int a = 0; a < 3; a++) o[a] += w * nk[k][a];
         blended = 1;

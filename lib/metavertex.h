@@ -21,23 +21,15 @@ float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
                      const float a[3], const float ab[3], float fa, float t, float nrm[3]);
 
 /* Normals are blended across a crease: a piece gap below the leading one
- * (unit normals nk and nt) weighs smoothstep(1 - gap / span), span being
- * JM_MV_BAND times |nt - nk| (at most c->mv_tau). As the gap grows about as
- * |nt - nk| times the distance from where the two pieces meet (units of
- * r), every crease is shaded as a fillet JM_MV_BAND r wide on each side
- * whatever its angle, smoothly (C1): weight 1 where they meet, 0 with a
- * flat tangent at the band's edge. 0 beyond the band. */
-#define JM_MV_BAND 0.5f
-static inline float jm_meta_weight(const jm_config *c, float gap, const float nt[3], const float nk[3])
+ * (at most c->mv_tau) weighs smoothstep(1 - gap / mv_tau), the leading one
+ * 1: the direction of the gradient of a smooth maximum of the pieces,
+ * continuous wherever the leading piece changes (C1: weight 1 where two
+ * pieces meet, 0 with a flat tangent at the band's edge). jm_meta_normals
+ * applies the same rule to every piece near every vertex. */
+static inline float jm_meta_weight(const jm_config *c, float gap)
 {
     if (!(gap < c->mv_tau)) return 0.0f;
-    const float d[3] = {nk[0] - nt[0], nk[1] - nt[1], nk[2] - nt[2]};
-    const float d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    /* gap < span, without the root where it fails */
-    if (!(gap * gap < JM_MV_BAND * JM_MV_BAND * d2)) return 0.0f;
-    float span = JM_MV_BAND * sqrtf(d2);
-    if (span > c->mv_tau) span = c->mv_tau;
-    const float x = 1.0f - gap / span;
+    const float x = 1.0f - (gap > 0.0f ? gap : 0.0f) / c->mv_tau;
     return x * x * (3.0f - 2.0f * x);
 }
 

@@ -1,4 +1,4 @@
-/* test_metasurface.c - metasphere surface quality: vertices on the exact surface, normals facing their triangles. */
+/* test_metasurface.c - metasphere surface quality: vertices on the exact surface, normals facing their triangles and continuous across creases. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -270,12 +270,90 @@ static void test_facing_dense(void **s)
     free(xyz);
 }
 
+/* ---- normals continuous across creases: how fast the normal turns along
+ * each mesh edge, |n_a - n_b| r / |p_a - p_b| (1 on a ball of radius r).
+ * Blending only the pieces won at an edge's nodes left a vertex beside a
+ * crease with a piece its neighbour never saw, so the shading stepped
+ * along the grid (a staircase in a close render); on the jet the 99th
+ * percentile of that rate was 7.8 (mt, cube r/2), 11.5 (mt, r/4) and 5.7
+ * (mc, r/4). Blending every piece within the band (metanormal.c) turns the
+ * normal smoothly across the fillet: about 3.5 in all four cases. */
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+static int cmp_edge(const void *a, const void *b)
+{
+    const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return (x > y) - (x < y);
+}
+static double turn_rate_p99(const jm_mesh *m, float r)
+{
+    size_t ne = 3 * m->triangle_count, k = 0;
+    uint64_t *e = malloc(ne * sizeof *e);
+    for (size_t t = 0; t < m->triangle_count; t++)
+        for (int j = 0; j < 3; j++) {
+            uint64_t a = m->indices[3 * t + j], b = m->indices[3 * t + (j + 1) % 3];
+            e[k++] = a < b ? a << 32 | b : b << 32 | a;
+        }
+    qsort(e, ne, sizeof *e, cmp_edge);
+    double *rate = malloc(ne * sizeof *rate);
+    size_t nr = 0;
+    for (size_t i = 0; i < ne; i++) {
+        if (i && e[i] == e[i - 1]) continue;
+        const uint32_t a = (uint32_t)(e[i] >> 32), b = (uint32_t)e[i];
+        double dn = 0, dp = 0;
+        for (int q = 0; q < 3; q++) {
+            double x = (double)m->normals[3 * a + q] - m->normals[3 * b + q];
+            double y = (double)m->positions[3 * a + q] - m->positions[3 * b + q];
+            dn += x * x;
+            dp += y * y;
+        }
+        if (dp > 0) rate[nr++] = sqrt(dn / dp) * r;
+    }
+    qsort(rate, nr, sizeof *rate, cmp_double);
+    double p99 = rate[(size_t)(0.99 * (double)(nr - 1))];
+    free(e);
+    free(rate);
+    return p99;
+}
+
+static void test_crease_normals(void **s)
+{
+    (void)s;
+    size_t n;
+    float *xyz = jet(&n);
+    const struct { jm_method m; float cube; } cases[] = {
+        {JM_METHOD_MT, 0.5f}, {JM_METHOD_MT, 0.25f}, {JM_METHOD_MC, 0.5f}, {JM_METHOD_MC, 0.25f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        jm_params p = {0};
+        p.radius = 0.025f;
+        p.method = cases[i].m;
+        p.cube_size = cases[i].cube;
+        jm_context *ctx;
+        assert_int_equal(jm_context_create(&p, &ctx), JM_OK);
+        jm_particles in = {xyz, n, 0, NULL};
+        jm_mesh mesh;
+        assert_int_equal(jm_mesh_particles(ctx, &in, &mesh, NULL), JM_OK);
+        double p99 = turn_rate_p99(&mesh, p.radius);
+        printf("method %d, cube %.2f r: normals turn at %.2f / r along edges (99th percentile)\n", cases[i].m,
+               cases[i].cube, p99);
+        if (!(p99 <= 5.0))
+            fail_msg("method %d, cube %g r: normals turn at %.2f / r at the 99th percentile of edges (> 5: a step "
+                     "across a crease)", cases[i].m, cases[i].cube, p99);
+        jm_context_free(ctx);
+    }
+    free(xyz);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exact_jet),
         cmocka_unit_test(test_exact_dense),
         cmocka_unit_test(test_facing_dense),
+        cmocka_unit_test(test_crease_normals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

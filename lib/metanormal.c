@@ -1,0 +1,327 @@
+/* metanormal.c - metasphere vertex normals blended from every ball and neck within the blend band of each vertex. */
+#include "metanormal.h"
+#include <math.h>
+#include <string.h>
+
+/* Why every piece: the edge's two pieces (block.c) and the settled set
+ * (metavertex.c) know only the pieces that won at a node or beat a vertex.
+ * Across a crease, one vertex then blends a piece its neighbour never saw,
+ * and the shading steps along the grid (a render at cube r/4 shows the
+ * crease as a staircase). Here each piece visits the vertices its box
+ * reaches, as in jm_meta_probe, and adds its weighted normal to theirs. */
+
+void jm_mnorm_free(jm_mnorm *m)
+{
+    jm_free(m->mem, m->acc, m->cap * 3 * sizeof(float));
+    m->acc = NULL;
+    m->cap = 0;
+}
+
+static int reserve(jm_mnorm *m, size_t n)
+{
+    if (n <= m->cap) return 1;
+    size_t nc = m->cap ? 2 * m->cap : 1024;
+    while (nc < n) nc *= 2;
+    float *a = jm_alloc(m->mem, nc * 3 * sizeof(float));
+    if (!a) return 0;
+    jm_free(m->mem, m->acc, m->cap * 3 * sizeof(float));
+    m->acc = a;
+    m->cap = nc;
+    return 1;
+}
+
+/* What every kernel needs: the sorted points (n of them, n >= 8), the
+ * sums, the part starts, and the constants. */
+typedef struct pass {
+    const float *x, *y, *z;
+    float *ax, *ay, *az;
+    size_t n;
+    const uint32_t *ps;
+    int np;
+    float thr, inv_tau, inv_r;
+    float rb2; /* squared: beyond this from its particle a ball is out of the band */
+} pass;
+
+/* The weight of a piece of value v: smoothstep(1 - gap / tau), gap =
+ * max(thr - v, 0); 0 (and *ok 0) beyond the band. The SIMD kernels do the
+ * same operations lane by lane: the same bits. */
+static inline float weight(const pass *P, float v, int *ok)
+{
+    float g = P->thr - v;
+    if (g < 0.0f) g = 0.0f;
+    float x = 1.0f - g * P->inv_tau;
+    *ok = x > 0.0f;
+    return x * x * (3.0f - 2.0f * x);
+}
+
+/* Parts lo..hi (per axis) of the sorted points, each vertex once. */
+#define FOR_PART_VERTICES(P, lo, hi, s, e, ...)                                                            \
+    for (int pk_ = lo[2]; pk_ <= hi[2]; pk_++)                                                           \
+        for (int pj_ = lo[1]; pj_ <= hi[1]; pj_++)                                                       \
+            for (int pi_ = lo[0]; pi_ <= hi[0]; pi_++) {                                                 \
+                const size_t part_ = ((size_t)pk_ * (P)->np + pj_) * (P)->np + pi_;                      \
+                const size_t s = (P)->ps[part_], e = (P)->ps[part_ + 1];                                 \
+                __VA_ARGS__                                                                              \
+            }
+
+static void ball_c(const pass *P, const int lo[3], const int hi[3], const float *q)
+{
+    FOR_PART_VERTICES(P, lo, hi, s, e, {
+        for (size_t k = s; k < e; k++) {
+            float dx = P->x[k] - q[0], dy = P->y[k] - q[1], dz = P->z[k] - q[2];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            if (!(d2 < P->rb2)) continue; /* weight 0 there: skipped early */
+            float d = sqrtf(d2);
+            int ok;
+            float w = weight(P, 1.0f - d * P->inv_r, &ok);
+            if (!ok || !(d > 0.0f)) continue;
+            float id = 1.0f / d;
+            P->ax[k] += w * (dx * id);
+            P->ay[k] += w * (dy * id);
+            P->az[k] += w * (dz * id);
+        }
+    })
+}
+
+/* both half-necks of the link from q along u, D long, within rr2 (squared)
+ * of its axis */
+static void link_c(const pass *P, const int lo[3], const int hi[3], const float *q, const float *u, float D,
+                   float rr2)
+{
+    FOR_PART_VERTICES(P, lo, hi, s0, e, {
+        for (size_t k = s0; k < e; k++) {
+            float wx = P->x[k] - q[0], wy = P->y[k] - q[1], wz = P->z[k] - q[2];
+            float s = wx * u[0] + wy * u[1] + wz * u[2];
+            float q2 = wx * wx + wy * wy + wz * wz - s * s;
+            if (!(s >= 0.0f && s <= D && q2 < rr2)) continue;
+            float sm = D - s, near = s < sm ? s : sm, sg = s <= sm ? 1.0f : -1.0f;
+            float t = near * P->inv_r;
+            float qq = sqrtf(q2 > 0.0f ? q2 : 0.0f);
+            int ok;
+            float w = weight(P, jm_cos_quarter(t) - qq * P->inv_r, &ok);
+            if (!ok || !(qq > 0.0f)) continue;
+            /* outward: away from the axis, tilted along it toward the
+             * waist as the neck narrows (jm_prim_eval) */
+            float sn = sg * jm_sin_quarter(t), iq = 1.0f / qq;
+            float ox = sn * u[0] + (wx - s * u[0]) * iq, oy = sn * u[1] + (wy - s * u[1]) * iq,
+                  oz = sn * u[2] + (wz - s * u[2]) * iq;
+            float il = 1.0f / sqrtf(ox * ox + oy * oy + oz * oz);
+            P->ax[k] += w * (ox * il);
+            P->ay[k] += w * (oy * il);
+            P->az[k] += w * (oz * il);
+        }
+    })
+}
+
+/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 runs AVX2
+ * where the CPU has it, any other value the plain C (the same bits) */
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && JM_SPLAT_VARIANT == 0
+#include <immintrin.h>
+#include <pthread.h>
+#define HAVE_AVX2_NORMALS 1
+static int wide;
+static pthread_once_t wide_once = PTHREAD_ONCE_INIT;
+static void wide_choose(void)
+{
+    __builtin_cpu_init();
+    wide = __builtin_cpu_supports("avx2") != 0;
+}
+
+/* runs of eight sorted points from each part's start (the last shifted
+ * back to end at the array's end); lanes outside [s, e) are masked off,
+ * so each vertex gets each piece once */
+#define FOR_RUNS8(P, lo, hi, k, lanes, ...)                                                                \
+    FOR_PART_VERTICES(P, lo, hi, s_, e_, {                                                               \
+        for (size_t r_ = s_; r_ < e_; r_ += 8) {                                                         \
+            const size_t k = r_ + 8 <= (P)->n ? r_ : (P)->n - 8;                                         \
+            const __m256i ix_ = _mm256_add_epi32(_mm256_set1_epi32((int)k), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)); \
+            const __m256 lanes = _mm256_castsi256_ps(_mm256_and_si256(                                   \
+                _mm256_cmpgt_epi32(ix_, _mm256_set1_epi32((int)r_ - 1)),                                 \
+                _mm256_cmpgt_epi32(_mm256_set1_epi32((int)e_), ix_)));                                   \
+            __VA_ARGS__                                                                                  \
+        }                                                                                                \
+    })
+
+#define B8(x) _mm256_set1_ps(x)
+__attribute__((target("avx2"))) static inline __m256 weight8(const pass *P, __m256 v, __m256 *ok)
+{
+    __m256 g = _mm256_max_ps(_mm256_sub_ps(B8(P->thr), v), _mm256_setzero_ps());
+    __m256 x = _mm256_sub_ps(B8(1.0f), _mm256_mul_ps(g, B8(P->inv_tau)));
+    *ok = _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ);
+    return _mm256_mul_ps(_mm256_mul_ps(x, x), _mm256_sub_ps(B8(3.0f), _mm256_mul_ps(B8(2.0f), x)));
+}
+
+/* acc[k..k+8) += w n where m */
+__attribute__((target("avx2"))) static inline void add8(float *a, size_t k, __m256 m, __m256 w, __m256 n)
+{
+    __m256 old = _mm256_loadu_ps(a + k);
+    _mm256_storeu_ps(a + k, _mm256_blendv_ps(old, _mm256_add_ps(old, _mm256_mul_ps(w, n)), m));
+}
+
+__attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3], const int hi[3], const float *q)
+{
+    const __m256 qx = B8(q[0]), qy = B8(q[1]), qz = B8(q[2]), zero = _mm256_setzero_ps();
+    FOR_RUNS8(P, lo, hi, k, lanes, {
+        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(P->x + k), qx), dy = _mm256_sub_ps(_mm256_loadu_ps(P->y + k), qy);
+        __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(P->z + k), qz);
+        __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+        __m256 near = _mm256_and_ps(lanes, _mm256_cmp_ps(d2, B8(P->rb2), _CMP_LT_OQ));
+        if (!_mm256_movemask_ps(near)) continue;
+        __m256 d = _mm256_sqrt_ps(d2);
+        __m256 ok;
+        __m256 w = weight8(P, _mm256_sub_ps(B8(1.0f), _mm256_mul_ps(d, B8(P->inv_r))), &ok);
+        __m256 m = _mm256_and_ps(_mm256_and_ps(ok, near), _mm256_cmp_ps(d, zero, _CMP_GT_OQ));
+        if (!_mm256_movemask_ps(m)) continue;
+        __m256 id = _mm256_div_ps(B8(1.0f), d);
+        add8(P->ax, k, m, w, _mm256_mul_ps(dx, id));
+        add8(P->ay, k, m, w, _mm256_mul_ps(dy, id));
+        add8(P->az, k, m, w, _mm256_mul_ps(dz, id));
+    })
+}
+
+__attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3], const int hi[3], const float *q,
+                                                    const float *u, float D, float rr2)
+{
+    const __m256 qx = B8(q[0]), qy = B8(q[1]), qz = B8(q[2]), ux = B8(u[0]), uy = B8(u[1]), uz = B8(u[2]);
+    const __m256 dd = B8(D), r2 = B8(rr2), zero = _mm256_setzero_ps(), ir = B8(P->inv_r);
+    FOR_RUNS8(P, lo, hi, k, lanes, {
+        __m256 wx = _mm256_sub_ps(_mm256_loadu_ps(P->x + k), qx), wy = _mm256_sub_ps(_mm256_loadu_ps(P->y + k), qy);
+        __m256 wz = _mm256_sub_ps(_mm256_loadu_ps(P->z + k), qz);
+        __m256 s = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wx, ux), _mm256_mul_ps(wy, uy)), _mm256_mul_ps(wz, uz));
+        __m256 q2 = _mm256_sub_ps(
+            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wx, wx), _mm256_mul_ps(wy, wy)), _mm256_mul_ps(wz, wz)),
+            _mm256_mul_ps(s, s));
+        __m256 in = _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(s, zero, _CMP_GE_OQ), _mm256_cmp_ps(s, dd, _CMP_LE_OQ)),
+                                  _mm256_cmp_ps(q2, r2, _CMP_LT_OQ));
+        in = _mm256_and_ps(in, lanes);
+        if (!_mm256_movemask_ps(in)) continue;
+        __m256 sm = _mm256_sub_ps(dd, s);
+        __m256 nearer = _mm256_cmp_ps(s, sm, _CMP_LT_OQ);
+        __m256 near = _mm256_blendv_ps(sm, s, nearer);
+        __m256 sg = _mm256_blendv_ps(B8(-1.0f), B8(1.0f), _mm256_cmp_ps(s, sm, _CMP_LE_OQ));
+        __m256 t = _mm256_mul_ps(near, ir), t2 = _mm256_mul_ps(t, t);
+        __m256 qq = _mm256_sqrt_ps(_mm256_max_ps(q2, zero));
+        /* jm_cos_quarter and jm_sin_quarter, term by term */
+        __m256 cs = _mm256_sub_ps(B8(1.0f / 40320), _mm256_mul_ps(t2, B8(1.0f / 3628800)));
+        cs = _mm256_add_ps(B8(-1.0f / 720), _mm256_mul_ps(t2, cs));
+        cs = _mm256_add_ps(B8(1.0f / 24), _mm256_mul_ps(t2, cs));
+        cs = _mm256_add_ps(B8(-0.5f), _mm256_mul_ps(t2, cs));
+        cs = _mm256_add_ps(B8(1.0f), _mm256_mul_ps(t2, cs));
+        __m256 ok;
+        __m256 w = weight8(P, _mm256_sub_ps(cs, _mm256_mul_ps(qq, ir)), &ok);
+        __m256 m = _mm256_and_ps(_mm256_and_ps(in, ok), _mm256_cmp_ps(qq, zero, _CMP_GT_OQ));
+        if (!_mm256_movemask_ps(m)) continue;
+        __m256 sn = _mm256_add_ps(B8(-1.0f / 5040), _mm256_mul_ps(t2, B8(1.0f / 362880)));
+        sn = _mm256_add_ps(B8(1.0f / 120), _mm256_mul_ps(t2, sn));
+        sn = _mm256_add_ps(B8(-1.0f / 6), _mm256_mul_ps(t2, sn));
+        sn = _mm256_add_ps(B8(1.0f), _mm256_mul_ps(t2, sn));
+        sn = _mm256_mul_ps(sg, _mm256_mul_ps(t, sn));
+        __m256 iq = _mm256_div_ps(B8(1.0f), qq);
+        __m256 ox = _mm256_add_ps(_mm256_mul_ps(sn, ux), _mm256_mul_ps(_mm256_sub_ps(wx, _mm256_mul_ps(s, ux)), iq));
+        __m256 oy = _mm256_add_ps(_mm256_mul_ps(sn, uy), _mm256_mul_ps(_mm256_sub_ps(wy, _mm256_mul_ps(s, uy)), iq));
+        __m256 oz = _mm256_add_ps(_mm256_mul_ps(sn, uz), _mm256_mul_ps(_mm256_sub_ps(wz, _mm256_mul_ps(s, uz)), iq));
+        __m256 il = _mm256_div_ps(
+            B8(1.0f),
+            _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ox, ox), _mm256_mul_ps(oy, oy)), _mm256_mul_ps(oz, oz))));
+        add8(P->ax, k, m, w, _mm256_mul_ps(ox, il));
+        add8(P->ay, k, m, w, _mm256_mul_ps(oy, il));
+        add8(P->az, k, m, w, _mm256_mul_ps(oz, il));
+    })
+}
+#endif
+
+/* the parts [lo, hi] (per axis) holding the cubes that meet the box
+ * [blo, bhi] (nodes x0 + i h); 0 if none */
+static int part_span(const float x0[3], int B, double inv_h, const float blo[3], const float bhi[3], int lo[3],
+                     int hi[3])
+{
+    for (int a = 0; a < 3; a++) {
+        double f0 = ((double)blo[a] - (double)x0[a]) * inv_h, f1 = ((double)bhi[a] - (double)x0[a]) * inv_h;
+        if (f1 < 0.0 || f0 >= (double)B) return 0;
+        int c0 = f0 < 0.0 ? 0 : (int)f0, c1 = f1 >= (double)B ? B - 1 : (int)f1;
+        lo[a] = c0 / JM_PROBE_PART;
+        hi[a] = c1 / JM_PROBE_PART;
+    }
+    return 1;
+}
+
+int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
+                    const float *x, const float *y, const float *z, const float *pos, float *nrm, size_t nv)
+{
+    if (!nv || !nrm) return 1;
+#ifdef HAVE_AVX2_NORMALS
+    pthread_once(&wide_once, wide_choose);
+#endif
+    const size_t ns = nv < 8 ? 8 : nv;
+    if (!reserve(m, ns)) return 0;
+    /* the settled points (the probe sorted the roots before settling) */
+    for (size_t w = 0; w < nv; w++) {
+        const float *p = &pos[3 * (size_t)pr->order[w]];
+        pr->px[w] = p[0];
+        pr->py[w] = p[1];
+        pr->pz[w] = p[2];
+    }
+    memset(m->acc, 0, ns * 3 * sizeof(float));
+    pass P = {pr->px, pr->py, pr->pz, m->acc, m->acc + ns, m->acc + 2 * ns, ns, pr->pstart,
+                    jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau, 1.0f / c->r, 0.0f};
+    /* a piece comes within tau of the threshold only within rb of its
+     * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
+    const float rb = c->r * (1.0f - (c->threshold - c->mv_tau)) + 1e-3f * c->r, rb2 = rb * rb;
+    P.rb2 = rb2;
+    const float x0[3] = {x[0], y[0], z[0]};
+    const double inv_hd = 1.0 / (double)c->h;
+    const float blo[3] = {x[0] - c->influence, y[0] - c->influence, z[0] - c->influence};
+    const float bhi[3] = {x[B] + c->influence, y[B] + c->influence, z[B] + c->influence};
+    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    for (size_t cell = 0; cell < cells; cell++)
+        for (uint32_t p = hood->range[2 * cell]; p < hood->range[2 * cell + 1]; p++) {
+            const float *q = &g->pos[3 * (size_t)p];
+            if (q[0] < blo[0] || q[0] > bhi[0] || q[1] < blo[1] || q[1] > bhi[1] || q[2] < blo[2] || q[2] > bhi[2])
+                continue;
+            if (g->isolated[p]) continue;
+            int lo[3], hi[3];
+            float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
+            if (part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
+#ifdef HAVE_AVX2_NORMALS
+                if (wide)
+                    ball8(&P, lo, hi, q);
+                else
+#endif
+                    ball_c(&P, lo, hi, q);
+            }
+            for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
+                /* each link once, from its lower end (or from this end
+                 * when the other lies outside the box) */
+                const uint32_t mi = g->nb[e];
+                const float *qm = &g->pos[3 * (size_t)mi];
+                if (mi < p && !(qm[0] < blo[0] || qm[0] > bhi[0] || qm[1] < blo[1] || qm[1] > bhi[1] ||
+                                qm[2] < blo[2] || qm[2] > bhi[2]))
+                    continue;
+                const float *u = &g->nb_dir[4 * (size_t)e];
+                for (int a = 0; a < 3; a++) {
+                    l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rb;
+                    h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rb;
+                }
+                if (!part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
+#ifdef HAVE_AVX2_NORMALS
+                if (wide)
+                    link8(&P, lo, hi, q, u, u[3], rb2);
+                else
+#endif
+                    link_c(&P, lo, hi, q, u, u[3], rb2);
+            }
+        }
+    for (size_t w = 0; w < nv; w++) {
+        float a0 = P.ax[w], a1 = P.ay[w], a2 = P.az[w];
+        float len = sqrtf(a0 * a0 + a1 * a1 + a2 * a2);
+        if (!(len > 0.0f)) continue; /* no piece near: the normal found before */
+        float *o = &nrm[3 * (size_t)pr->order[w]];
+        o[0] = a0 / len;
+        o[1] = a1 / len;
+        o[2] = a2 / len;
+    }
+    return 1;
+}
