@@ -25,3 +25,6 @@ render docs/dam_break.png 1400x420 "$W/db_default.glb" "$W/db_smooth.glb" "$W/db
 "$J" convert samples/jet/jet_099.csv -r 0.025 --smooth 25 --smooth-normals 10 -q -o "$W/jet_smooth.glb"
 render docs/jet.png 1200x300 --xfrac 0.55:0.85 --view front "$W/jet_default.glb"
 render docs/jet_smooth.png 1200x300 --xfrac 0.55:0.85 --view front "$W/jet_smooth.glb"
+# a close-up of three joined beads at cube r/4: the creases where balls and necks meet
+"$J" convert samples/jet/jet_099.csv -r 0.025 --cube-size 0.25 -q -o "$W/jet_fine.glb"
+render docs/jet_closeup.png 1000x600 --xfrac 0.535:0.575 --tight --view side "$W/jet_fine.glb"

@@ -1,4 +1,4 @@
-# render.py - renders meshes side by side with Blender Cycles (CPU, no denoising) for the README: blender -b --python scripts/render.py -- OUT.png [--size WxH] [--samples N] [--view side|top|front] [--xfrac A:B] FILE...
+# render.py - renders meshes side by side with Blender Cycles (CPU, no denoising) for the README: blender -b --python scripts/render.py -- OUT.png [--size WxH] [--samples N] [--view side|top|front] [--xfrac A:B [--tight]] FILE...
 import bpy, sys, math
 import numpy
 numpy.bool = bool  # Blender 3.4's glTF importer on this numpy
@@ -8,6 +8,7 @@ argv = sys.argv[sys.argv.index("--") + 1:]
 out = argv.pop(0)
 W, H, samples, view = 1200, 500, 48, "side"
 xfrac = None
+tight = False
 files = []
 while argv:
     a = argv.pop(0)
@@ -19,6 +20,8 @@ while argv:
         view = argv.pop(0)
     elif a == "--xfrac":  # frame only this part of the width, e.g. 0.5:0.8
         xfrac = tuple(float(x) for x in argv.pop(0).split(":"))
+    elif a == "--tight":  # with --xfrac: frame only the vertices in that slice (close-ups)
+        tight = True
     else:
         files.append(a)
 
@@ -71,8 +74,18 @@ lo, hi = bounds([o for g in groups for o in g])
 if xfrac:
     x0 = lo.x + xfrac[0] * (hi.x - lo.x)
     x1 = lo.x + xfrac[1] * (hi.x - lo.x)
-    lo = Vector((x0, lo.y, lo.z))
-    hi = Vector((x1, hi.y, hi.z))
+    if tight:
+        vl = Vector((1e30,) * 3); vh = Vector((-1e30,) * 3)
+        for o in (o for g in groups for o in g):
+            for v in o.data.vertices:
+                w = o.matrix_world @ v.co
+                if x0 <= w.x <= x1:
+                    vl = Vector(map(min, vl, w)); vh = Vector(map(max, vh, w))
+        lo = Vector((x0, vl.y, vl.z))
+        hi = Vector((x1, vh.y, vh.z))
+    else:
+        lo = Vector((x0, lo.y, lo.z))
+        hi = Vector((x1, hi.y, hi.z))
 centre = (lo + hi) / 2
 ext = hi - lo
 
