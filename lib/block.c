@@ -148,39 +148,14 @@ static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand
     return cp->v[w];
 }
 
-/* The normal to output from cand_eval's pieces: the winner's, or along a
- * crease of the union both, blended by jm_meta_weight. */
-static void cand_blend(const jm_config *c, const cand_pt *cp, float out[3])
-{
-    const int w = cp->w;
-    const float wt = cp->v[1 - w] > cp->v[w] - c->mv_tau ? jm_meta_weight(c, cp->v[w] - cp->v[1 - w]) : 0.0f;
-    if (!(wt > 0.0f)) {
-        memcpy(out, cp->nk[w], 3 * sizeof *out);
-        return;
-    }
-    float o[3], len = 0.0f;
-    for (int a = 0; a < 3; a++) {
-        o[a] = cp->nk[w][a] + wt * cp->nk[1 - w][a];
-        len += o[a] * o[a];
-    }
-    if (len > 0.0f) {
-        len = 1.0f / sqrtf(len);
-        for (int a = 0; a < 3; a++) out[a] = o[a] * len;
-    } else {
-        memcpy(out, cp->nk[w], 3 * sizeof *out);
-    }
-}
-
 /* The metasphere's crossing on edge a + t ab: the linear estimate t is
  * refined on the exact function (directly for a single ball, else by
  * safeguarded Newton steps), so vertices lie on the surface, not on the
- * chord of the samples. When the last evaluation was at the returned t,
- * nrm gets the output normal there and *have_nrm is set; *win gets the
- * piece winning at the last point evaluated. */
+ * chord of the samples. *win gets the piece winning at the last point
+ * evaluated. */
 static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
-                         const float ab[3], float fa, float t, float nrm[3], int *have_nrm, uint32_t *win)
+                         const float ab[3], float fa, float t, uint32_t *win)
 {
-    *have_nrm = 0;
     uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
     *win = one;
     if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
@@ -207,11 +182,7 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
         float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
         cand_pt cp;
         float f = cand_eval(g, c, cand, p, n, &glen, &cp, win) - c->threshold;
-        if (fabsf(f) < tol) {
-            cand_blend(c, &cp, nrm);
-            *have_nrm = 1;
-            return t;
-        }
+        if (fabsf(f) < tol) return t;
         if ((f > 0.0f) == (fa > 0.0f)) ta = t; else tb = t;
         float df = -glen * (n[0] * ab[0] + n[1] * ab[1] + n[2] * ab[2]);
         float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
@@ -220,10 +191,7 @@ static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t ca
         } else if (fabsf(tn - t) < 0.1f) {
             /* a Newton step of under a tenth of the edge: done (the error
              * left is second order in the step, about 1e-3 of the edge
-             * here), with the normal of the point just evaluated beside it
-             * (about 1.5 degrees mean difference on the jet) */
-            cand_blend(c, &cp, nrm);
-            *have_nrm = 1;
+             * here) */
             return tn;
         }
         t = tn;
@@ -456,13 +424,11 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
                             const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
                             float tt = (thr - fa) / (fb - fa);
-                            float mn[3];
-                            int have_mn = 0;
                             uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL, win = UINT32_MAX;
                             if (meta) {
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, mn, &have_mn, &win);
+                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, &win);
                                 /* for jm_meta_probe: the edge and the root */
                                 const float pt[3] = {a[0] + tt * ab[0], a[1] + tt * ab[1], a[2] + tt * ab[2]};
                                 if (!jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, pt)) {
@@ -477,12 +443,9 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             float sign = fa > thr ? 1.0f : -1.0f, inv = 1.0f / sqrtf((float)(dv[0] + dv[1] + dv[2]));
                             float *nr = &out->nrm[3 * out->nv];
                             for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
-                            /* the metasphere's normals are blended from
-                             * every piece near the vertex once the block is
-                             * done (jm_meta_normals); until then, the
-                             * refinement's last evaluation where it was at
-                             * this very point */
-                            if (meta && want_nrm && have_mn && tc == tt) memcpy(nr, mn, sizeof mn);
+                            /* (the metasphere's are blended from every
+                             * piece near the vertex once the block is done:
+                             * jm_meta_normals) */
                             ref = (uint32_t)out->nv++;
                             if (ni == 0 || nj == 0 || nk == 0) {
                                 if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {

@@ -126,8 +126,8 @@
  * Interpolation parameters are kept in [0.01, 0.99], so no two vertices
  * coincide at a node.
  *
- * Normals: SPH, the normalised gradient of phi. Metasphere, the outward
- * unit normals of every ball and neck whose value at the vertex comes
+ * Normals: SPH, the normalised gradient of phi. Metasphere, the sum of the
+ * outward gradients of every ball and neck whose value at the vertex comes
  * within 0.4 of the threshold, each weighted by smoothstep(1 - gap / 0.4)
  * (gap: how far its value lies below the threshold), normalised: the
  * gradient of a smooth maximum of the pieces, which shades every crease as

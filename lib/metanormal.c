@@ -100,15 +100,15 @@ static void link_c(const pass *P, const int lo[3], const int hi[3], const float 
             int ok;
             float w = weight(P, jm_cos_quarter(t) - qq * P->inv_r, &ok);
             if (!ok || !(qq > 0.0f)) continue;
-            /* outward: away from the axis, tilted along it toward the
-             * waist as the neck narrows (jm_prim_eval) */
+            /* minus the gradient, times r: away from the axis, tilted
+             * along it toward the waist as the neck narrows (jm_prim_eval;
+             * a ball's is the unit radial) */
             float sn = sg * jm_sin_quarter(t), iq = 1.0f / qq;
             float ox = sn * u[0] + (wx - s * u[0]) * iq, oy = sn * u[1] + (wy - s * u[1]) * iq,
                   oz = sn * u[2] + (wz - s * u[2]) * iq;
-            float il = 1.0f / sqrtf(ox * ox + oy * oy + oz * oz);
-            P->ax[k] += w * (ox * il);
-            P->ay[k] += w * (oy * il);
-            P->az[k] += w * (oz * il);
+            P->ax[k] += w * ox;
+            P->ay[k] += w * oy;
+            P->az[k] += w * oz;
         }
     })
 }
@@ -223,12 +223,9 @@ __attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3]
         __m256 ox = _mm256_add_ps(_mm256_mul_ps(sn, ux), _mm256_mul_ps(_mm256_sub_ps(wx, _mm256_mul_ps(s, ux)), iq));
         __m256 oy = _mm256_add_ps(_mm256_mul_ps(sn, uy), _mm256_mul_ps(_mm256_sub_ps(wy, _mm256_mul_ps(s, uy)), iq));
         __m256 oz = _mm256_add_ps(_mm256_mul_ps(sn, uz), _mm256_mul_ps(_mm256_sub_ps(wz, _mm256_mul_ps(s, uz)), iq));
-        __m256 il = _mm256_div_ps(
-            B8(1.0f),
-            _mm256_sqrt_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(ox, ox), _mm256_mul_ps(oy, oy)), _mm256_mul_ps(oz, oz))));
-        add8(P->ax, k, m, w, _mm256_mul_ps(ox, il));
-        add8(P->ay, k, m, w, _mm256_mul_ps(oy, il));
-        add8(P->az, k, m, w, _mm256_mul_ps(oz, il));
+        add8(P->ax, k, m, w, ox);
+        add8(P->ay, k, m, w, oy);
+        add8(P->az, k, m, w, oz);
     })
 }
 #endif

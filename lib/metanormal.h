@@ -13,12 +13,11 @@ void jm_mnorm_free(jm_mnorm *m);
 
 /* The metasphere is the union of its pieces (balls and half-necks), so it
  * has a crease wherever two of them meet at an angle. A vertex's normal is
- * the normalised sum of the outward unit normals of every piece whose
- * value at the vertex comes within c->mv_tau of the threshold, each
- * weighted by smoothstep(1 - gap / mv_tau) (gap: how far its value lies
- * below the threshold, 0 for a piece at or above it): the direction of
- * the gradient of a smooth maximum of the pieces, continuous across every
- * crease (see jm_meta_weight). Every piece is splatted onto the block's
+ * the normalised sum of minus the gradients of every piece whose value at
+ * the vertex comes within c->mv_tau of the threshold, each weighted by
+ * smoothstep(1 - gap / mv_tau) (gap: how far its value lies below the
+ * threshold, 0 for a piece at or above it): the direction of the gradient
+ * of a smooth maximum of the pieces, continuous across every crease. Every piece is splatted onto the block's
  * vertices as jm_meta_probe splats them (its sorted points pr, after the
  * probe and the settling: the points are refreshed from pos), so no piece
  * near a vertex is left out, and neighbouring vertices blend the same
