@@ -44,6 +44,10 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         uint32_t m = a < b ? (a < c ? a : c) : (b < c ? b : c);
         parent[a] = parent[b] = parent[c] = m;
     }
+    /* every vertex straight to its root: a root is the smallest index of
+     * its component and parent[v] <= v throughout, so in index order a
+     * vertex's parent is already flattened when it is reached */
+    for (size_t v = 0; v < n; v++) parent[v] = parent[parent[v]];
     /* signed volumes about the first vertex (translation-invariant for a
      * closed shell; near the mesh for precision), summed in triangle order */
     const double o[3] = {pos[0], pos[1], pos[2]};
@@ -55,7 +59,7 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
             b[k] = pos[3 * i[1] + k] - o[k];
             c[k] = pos[3 * i[2] + k] - o[k];
         }
-        vol[find(parent, i[0])] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+        vol[parent[i[0]]] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
                                     a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
     }
     size_t removed = 0;
@@ -70,7 +74,7 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         for (size_t v = 0; v < n; v++)
             if (parent[v] == v) vol[v] = (vol[v] < 0.0 && -vol[v] < max_volume) ? 1.0 : 0.0;
         for (size_t v = 0; v < n; v++)
-            if (parent[v] != v) vol[v] = vol[find(parent, (uint32_t)v)];
+            if (parent[v] != v) vol[v] = vol[parent[v]];
         for (size_t v = 0; v < n; v++) {
             if (vol[v] != 0.0) {
                 map[v] = UINT32_MAX;
