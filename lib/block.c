@@ -575,6 +575,6 @@ done:
     sort_pairs(out->bmap, out->nb);
     if (!meta && want_nrm && out->nv && !sph_normals(g, c, s, lo, hi, out)) { out->failed = 1; return; }
     if (c->uv_mode != JM_UV_NONE)
-        for (size_t v = 0; v < out->nv; v++) jm_uv(c, &out->pos[3 * v], &out->nrm[3 * v], &out->uv[2 * v]);
+        jm_uv_all(c, out->pos, out->nrm, out->uv, out->nv);
     out->t_attr = jm_now_ms() - t2;
 }

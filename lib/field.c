@@ -237,7 +237,7 @@ const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood
 
 float jm_prim_eval(const jm_grid *g, const jm_config *c, uint32_t id, const float p[3], float out[3], float *out_glen)
 {
-    const float inv_r = 1.0f / c->r;
+    const float inv_r = c->mv_inv_r;
     if (out_glen) *out_glen = inv_r;
     if (id < g->n) {
         const float *q = GP(g, id);
