@@ -452,6 +452,10 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     const size_t sn = (size_t)n, sn2 = sn * sn;
     size_t corner_off[8];
     for (int k = 0; k < 8; k++) corner_off[k] = (k & 1) + ((k >> 1) & 1) * sn + ((k >> 2) & 1) * sn2;
+    /* 1 / the length of a direction with 1, 2 or 3 unit steps */
+    float inv_len[4];
+    for (int m = 1; m < 4; m++) inv_len[m] = 1.0f / sqrtf((float)m);
+    inv_len[0] = 0.0f;
     size_t dir_off[7];
     for (int d = 0; d < 7; d++) dir_off[d] = jm_dir[d][0] + jm_dir[d][1] * sn + jm_dir[d][2] * sn2;
 
@@ -517,7 +521,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             float *p = &out->pos[3 * out->nv];
                             for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             /* fallback normal: along the edge, from inside to outside */
-                            float sign = fa > thr ? 1.0f : -1.0f, inv = 1.0f / sqrtf((float)(dv[0] + dv[1] + dv[2]));
+                            float sign = fa > thr ? 1.0f : -1.0f, inv = inv_len[dv[0] + dv[1] + dv[2]];
                             float *nr = &out->nrm[3 * out->nv];
                             for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
                             if (meta && want_nrm) {

@@ -25,10 +25,19 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
     }
     size_t k = 0;
     hood->particles = 0;
+    /* the cells holding particles lie within those of the particles'
+     * bounds: no lookup outside them (most of a thin jet's hoods) */
+    int64_t in_lo[3], in_hi[3];
+    for (int a = 0; a < 3; a++) {
+        in_lo[a] = (int64_t)floorf(g->lo[a] * g->inv_cell) - hood->c0[a];
+        in_hi[a] = (int64_t)floorf(g->hi[a] * g->inv_cell) - hood->c0[a];
+    }
     for (int z = 0; z < hood->n[2]; z++)
         for (int y = 0; y < hood->n[1]; y++)
             for (int x = 0; x < hood->n[0]; x++, k++) {
-                uint32_t ci = jm_grid_cell(g, hood->c0[0] + x, hood->c0[1] + y, hood->c0[2] + z);
+                const int outside = x < in_lo[0] || x > in_hi[0] || y < in_lo[1] || y > in_hi[1] || z < in_lo[2] ||
+                                    z > in_hi[2];
+                uint32_t ci = outside ? UINT32_MAX : jm_grid_cell(g, hood->c0[0] + x, hood->c0[1] + y, hood->c0[2] + z);
                 if (ci == UINT32_MAX) {
                     hood->range[2 * k] = hood->range[2 * k + 1] = 0;
                 } else {
