@@ -16,6 +16,10 @@
 
 static uint32_t find(uint32_t *p, uint32_t x)
 {
+    /* a root or a root's child: what the loop would find, without its
+     * stores (which would write what is there) */
+    const uint32_t r = p[x];
+    if (p[r] == r) return r;
     while (p[x] != x) {
         p[x] = p[p[x]];
         x = p[x];
