@@ -287,6 +287,45 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
     return 1;
 }
 
+/* in[i] = f[i] > thr for i in [i0, i1); returns how many are inside */
+#ifdef __SSE2__
+#include <emmintrin.h>
+static size_t classify_row(const float *f, uint8_t *in, int i0, int i1, float thr)
+{
+    const __m128 t = _mm_set1_ps(thr);
+    const __m128i one = _mm_set1_epi8(1), zero = _mm_setzero_si128();
+    __m128i acc = zero;
+    int i = i0;
+    for (; i + 16 <= i1; i += 16) {
+        __m128i c0 = _mm_castps_si128(_mm_cmpgt_ps(_mm_loadu_ps(f + i), t));
+        __m128i c1 = _mm_castps_si128(_mm_cmpgt_ps(_mm_loadu_ps(f + i + 4), t));
+        __m128i c2 = _mm_castps_si128(_mm_cmpgt_ps(_mm_loadu_ps(f + i + 8), t));
+        __m128i c3 = _mm_castps_si128(_mm_cmpgt_ps(_mm_loadu_ps(f + i + 12), t));
+        __m128i b = _mm_and_si128(_mm_packs_epi16(_mm_packs_epi32(c0, c1), _mm_packs_epi32(c2, c3)), one);
+        _mm_storeu_si128((__m128i *)(in + i), b);
+        acc = _mm_add_epi64(acc, _mm_sad_epu8(b, zero));
+    }
+    size_t sum = (size_t)_mm_cvtsi128_si32(acc) + (size_t)_mm_cvtsi128_si32(_mm_unpackhi_epi64(acc, acc));
+    for (; i < i1; i++) {
+        uint8_t v = f[i] > thr;
+        in[i] = v;
+        sum += v;
+    }
+    return sum;
+}
+#else
+static size_t classify_row(const float *f, uint8_t *in, int i0, int i1, float thr)
+{
+    size_t sum = 0;
+    for (int i = i0; i < i1; i++) {
+        uint8_t v = f[i] > thr;
+        in[i] = v;
+        sum += v;
+    }
+    return sum;
+}
+#endif
+
 void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
 {
     const jm_config *c = env->c;
@@ -343,21 +382,23 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
+    /* inside flags, and per node row whether it is all outside (0), all
+     * inside (1) or mixed (2) */
+    uint8_t *rs = s->rowstate;
     for (size_t r = 0; r < (size_t)n * n; r++) {
-        const float *restrict f = fv + r * fs;
-        uint8_t *restrict in = s->in + r * (size_t)n;
+        const float *f = fv + r * fs;
+        uint8_t *in = s->in + r * (size_t)n;
         int i0 = 0, i1 = n;
+        size_t sum = 0;
         if (span) {
             i0 = span[2 * r];
             i1 = span[2 * r + 1];
             memset(in, 1, (size_t)n); /* off the span: proven inside */
-            inside += (size_t)(n - (i1 - i0));
+            sum = (size_t)(n - (i1 - i0));
         }
-        for (int i = i0; i < i1; i++) {
-            uint8_t v = f[i] > thr;
-            in[i] = v;
-            inside += v;
-        }
+        sum += classify_row(f, in, i0, i1, thr);
+        rs[r] = sum == 0 ? 0 : (sum == (size_t)n ? 1 : 2);
+        inside += sum;
     }
     double t1 = jm_now_ms();
     out->t_field = t1 - t0;
@@ -370,18 +411,15 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     const size_t sn = (size_t)n, sn2 = sn * sn;
     size_t corner_off[8];
     for (int k = 0; k < 8; k++) corner_off[k] = (k & 1) + ((k >> 1) & 1) * sn + ((k >> 2) & 1) * sn2;
+    /* 1 / the length of a direction with 1, 2 or 3 unit steps */
+    float inv_len[4];
+    for (int m = 1; m < 4; m++) inv_len[m] = 1.0f / sqrtf((float)m);
+    inv_len[0] = 0.0f;
     size_t dir_off[7];
     for (int d = 0; d < 7; d++) dir_off[d] = jm_dir[d][0] + jm_dir[d][1] * sn + jm_dir[d][2] * sn2;
 
-    /* node rows that are all inside or all outside: a row of cubes between
-     * four such rows, all alike, has no surface */
-    uint8_t *rs = s->rowstate;
-    for (size_t r = 0; r < sn2; r++) {
-        const uint8_t *in = s->in + r * sn;
-        unsigned sum = 0;
-        for (size_t i = 0; i < sn; i++) sum += in[i];
-        rs[r] = sum == 0 ? 0 : (sum == sn ? 1 : 2);
-    }
+    /* node rows that are all inside or all outside (rs, above): a row of
+     * cubes between four such rows, all alike, has no surface */
     for (int k = 0; k < B; k++)
         for (int j = 0; j < B; j++) {
             size_t row = ((size_t)k * sn + j) * sn;
@@ -440,7 +478,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             float *p = &out->pos[3 * out->nv];
                             for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             /* fallback normal: along the edge, from inside to outside */
-                            float sign = fa > thr ? 1.0f : -1.0f, inv = 1.0f / sqrtf((float)(dv[0] + dv[1] + dv[2]));
+                            float sign = fa > thr ? 1.0f : -1.0f, inv = inv_len[dv[0] + dv[1] + dv[2]];
                             float *nr = &out->nrm[3 * out->nv];
                             for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
                             /* (the metasphere's are blended from every
@@ -500,6 +538,6 @@ done:
     sort_pairs(out->bmap, out->nb);
     if (!meta && want_nrm && out->nv && !sph_normals(g, c, s, lo, hi, out)) { out->failed = 1; return; }
     if (c->uv_mode != JM_UV_NONE)
-        for (size_t v = 0; v < out->nv; v++) jm_uv(c, &out->pos[3 * v], &out->nrm[3 * v], &out->uv[2 * v]);
+        jm_uv_all(c, out->pos, out->nrm, out->uv, out->nv);
     out->t_attr = jm_now_ms() - t2;
 }

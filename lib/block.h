@@ -72,4 +72,6 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
 
 /* Texture coordinates of one vertex. */
 void jm_uv(const jm_config *c, const float p[3], const float n[3], float uv[2]);
+/* jm_uv of nv vertices (pos, nrm: 3 floats each; uv: 2), the same values */
+void jm_uv_all(const jm_config *c, const float *pos, const float *nrm, float *uv, size_t nv);
 #endif

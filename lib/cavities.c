@@ -16,6 +16,10 @@
 
 static uint32_t find(uint32_t *p, uint32_t x)
 {
+    /* a root or a root's child: what the loop would find, without its
+     * stores (which would write what is there) */
+    const uint32_t r = p[x];
+    if (p[r] == r) return r;
     while (p[x] != x) {
         p[x] = p[p[x]];
         x = p[x];
@@ -41,12 +45,21 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         const uint32_t *i = idx + 3 * t;
         uint32_t a = find(parent, i[0]), b = find(parent, i[1]), c = find(parent, i[2]);
         /* the smaller index as root: the result does not depend on the order of unions */
+        if (a == b && b == c) continue; /* one component already */
         uint32_t m = a < b ? (a < c ? a : c) : (b < c ? b : c);
         parent[a] = parent[b] = parent[c] = m;
     }
+    /* every vertex straight to its root: a root is the smallest index of
+     * its component and parent[v] <= v throughout, so in index order a
+     * vertex's parent is already flattened when it is reached */
+    for (size_t v = 0; v < n; v++) parent[v] = parent[parent[v]];
     /* signed volumes about the first vertex (translation-invariant for a
      * closed shell; near the mesh for precision), summed in triangle order */
     const double o[3] = {pos[0], pos[1], pos[2]};
+    /* a component's triangles mostly follow each other: its sum is kept in
+     * a register while they do (the same additions in the same order) */
+    uint32_t cur = parent[idx[0]];
+    double acc = 0.0;
     for (size_t t = 0; t < nt; t++) {
         const uint32_t *i = idx + 3 * t;
         double a[3], b[3], c[3];
@@ -55,9 +68,16 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
             b[k] = pos[3 * i[1] + k] - o[k];
             c[k] = pos[3 * i[2] + k] - o[k];
         }
-        vol[find(parent, i[0])] += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                                    a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+        const uint32_t root = parent[i[0]];
+        if (root != cur) {
+            vol[cur] = acc;
+            cur = root;
+            acc = vol[root];
+        }
+        acc += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
     }
+    vol[cur] = acc;
     size_t removed = 0;
     for (size_t v = 0; v < n; v++)
         if (parent[v] == v && vol[v] < 0.0 && -vol[v] < max_volume) removed++;
@@ -70,7 +90,7 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         for (size_t v = 0; v < n; v++)
             if (parent[v] == v) vol[v] = (vol[v] < 0.0 && -vol[v] < max_volume) ? 1.0 : 0.0;
         for (size_t v = 0; v < n; v++)
-            if (parent[v] != v) vol[v] = vol[find(parent, (uint32_t)v)];
+            if (parent[v] != v) vol[v] = vol[parent[v]];
         for (size_t v = 0; v < n; v++) {
             if (vol[v] != 0.0) {
                 map[v] = UINT32_MAX;

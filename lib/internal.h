@@ -83,6 +83,7 @@ typedef struct jm_config {
     float mv_reach2s;  /* nor threshold - mv_tol farther than this */
     int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
     float mv_check;    /* metasphere: a vertex whose value is off by more is settled again (units of r) */
+    float mv_inv_r;    /* metasphere: 1.0f / r, once (the pieces' evaluations) */
     /* the unit of length (units.h): every length above is in units of 2^unit;
      * particle coordinates are multiplied by unit_in = 2^-unit as they are read */
     int unit;

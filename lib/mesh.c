@@ -235,11 +235,15 @@ static void resolve_task(void *arg, size_t p, int worker)
     frame_job *job = arg;
     uint32_t owner = job->pend[2 * p], slot = job->pend[2 * p + 1];
     const uint32_t *m = job->bmap[owner];
-    size_t lo = 0, hi = job->nbmap[owner];
-    while (lo < hi) {
-        size_t mid = (lo + hi) / 2;
-        if (m[2 * mid] < slot) lo = mid + 1; else hi = mid;
+    /* the first entry not below slot, without a branch per halving (the
+     * slots are distinct: the same entry as any binary search) */
+    size_t lo = 0, len = job->nbmap[owner];
+    while (len > 1) {
+        const size_t half = len / 2;
+        lo = m[2 * (lo + half - 1)] < slot ? lo + half : lo;
+        len -= half;
     }
+    if (len == 1 && m[2 * lo] < slot) lo++;
     if (lo < job->nbmap[owner] && m[2 * lo] == slot) {
         job->pend[2 * p] = (uint32_t)(job->vbase[owner] + m[2 * lo + 1]);
     } else {

@@ -86,11 +86,12 @@ static int reserve(jm_probe *pr, size_t n, size_t parts)
         if (!grow_all(pr->mem, a, esz, 5, pr->capw, nc)) return 0;
         pr->capw = nc;
     }
-    if (parts + 1 > pr->capp) {
-        uint32_t *q = jm_realloc(pr->mem, pr->pstart, pr->capp * sizeof *q, (parts + 1) * sizeof *q);
+    /* the parts' starts, then four counts (cursors) per part */
+    if (5 * parts + 1 > pr->capp) {
+        uint32_t *q = jm_realloc(pr->mem, pr->pstart, pr->capp * sizeof *q, (5 * parts + 1) * sizeof *q);
         if (!q) return 0;
         pr->pstart = q;
-        pr->capp = parts + 1;
+        pr->capp = 5 * parts + 1;
     }
     return 1;
 }
@@ -318,22 +319,31 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
     /* below any value that counts */
     const float level = thr - 2.0f * tol;
 
-    /* counting sort of the vertices by part */
-    uint32_t *ps = pr->pstart;
-    memset(ps, 0, (parts + 1) * sizeof *ps);
-    for (size_t v = 0; v < nv; v++) ps[pr->part[v] + 1]++;
-    for (size_t q = 0; q < parts; q++) ps[q + 1] += ps[q];
+    /* counting sort of the vertices by part, counted in four interleaved
+     * sets (vertex v in set v % 4: neighbours, often of one part, do not
+     * wait on each other's count); within a part the order does not
+     * matter (each vertex gets its own maximum) */
+    uint32_t *ps = pr->pstart, *cnt = ps + parts + 1;
+    memset(cnt, 0, 4 * parts * sizeof *cnt);
+    for (size_t v = 0; v < nv; v++) cnt[(v & 3) * parts + pr->part[v]]++;
+    uint32_t acc = 0;
+    for (size_t q = 0; q < parts; q++) {
+        ps[q] = acc;
+        for (size_t k = 0; k < 4; k++) {
+            const uint32_t m = cnt[k * parts + q];
+            cnt[k * parts + q] = acc;
+            acc += m;
+        }
+    }
+    ps[parts] = acc;
     for (size_t v = 0; v < nv; v++) {
-        size_t w = ps[pr->part[v]]++;
+        size_t w = cnt[(v & 3) * parts + pr->part[v]]++;
         pr->order[w] = (uint32_t)v;
         pr->px[w] = pr->pt[3 * v];
         pr->py[w] = pr->pt[3 * v + 1];
         pr->pz[w] = pr->pt[3 * v + 2];
         pr->vmax[w] = level;
     }
-    /* ps[q] is now the end of part q: back to starts */
-    for (size_t q = parts; q > 0; q--) ps[q] = ps[q - 1];
-    ps[0] = 0;
     for (size_t w = nv; w < ns; w++) {
         /* fewer than 8 vertices: far away dummies */
         pr->px[w] = pr->py[w] = pr->pz[w] = 1e30f;

@@ -21,7 +21,7 @@ typedef struct jm_probe {
     float *px, *py, *pz;  /* the vertices' points */
     float *vmax;          /* the largest value of a piece there */
     size_t capp;
-    uint32_t *pstart;     /* parts + 1: first sorted position of each part */
+    uint32_t *pstart;     /* parts + 1: first sorted position of each part; then 4 parts of counts */
 } jm_probe;
 
 /* parts are JM_PROBE_PART cubes a side: a block of B cubes has

@@ -32,6 +32,7 @@ void jm_metavertex_config(jm_config *c)
     /* the probe settles again a vertex off the surface by more than this
      * (about 1.5 % of the jet's vertices; 0.8 % are off by more than 0.02) */
     c->mv_check = 0.0125f;
+    c->mv_inv_r = 1.0f / c->r;
     /* normals blend the pieces within this of the maximum (see
      * jm_meta_weight and jm_meta_normals) */
     c->mv_tau = MV_GAP;

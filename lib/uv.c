@@ -24,3 +24,23 @@ void jm_uv(const jm_config *c, const float p[3], const float n[3], float uv[2])
     uv[0] = p[u] * s;
     uv[1] = p[v] * s;
 }
+
+void jm_uv_all(const jm_config *c, const float *pos, const float *nrm, float *uv, size_t nv)
+{
+    if (c->uv_mode != JM_UV_BOX) {
+        for (size_t v = 0; v < nv; v++) jm_uv(c, &pos[3 * v], &nrm[3 * v], &uv[2 * v]);
+        return;
+    }
+    /* the box mode with the scale's reciprocal taken once, and the axis
+     * chosen without branches (the same comparisons) */
+    const float s = 1.0f / c->uv_scale;
+    for (size_t v = 0; v < nv; v++) {
+        const float *p = &pos[3 * v], *n = &nrm[3 * v];
+        float ax = fabsf(n[0]), ay = fabsf(n[1]), az = fabsf(n[2]);
+        /* axis 0 where gx, else 1 where gy, else 2 */
+        const int gx = (ax >= ay) & (ax >= az), gy = (ay >= az) & !gx;
+        const int u = gx, w = 2 - (!gx & !gy);
+        uv[2 * v] = p[u] * s;
+        uv[2 * v + 1] = p[w] * s;
+    }
+}
