@@ -18,6 +18,11 @@
 jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p, tinygltf::Model &m,
                                    std::vector<unsigned char> &buf, tinygltf::Primitive &prim, char *err,
                                    size_t errlen);
+// The same with the bytes as pieces of buf (gltf_bin.hpp), the mesh's arrays
+// borrowed, not copied: what the one-mesh writer writes straight from them.
+struct jmf_gltf_bin;
+jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p, tinygltf::Model &m,
+                                   jmf_gltf_bin &buf, tinygltf::Primitive &prim, char *err, size_t errlen);
 
 // The plain grey material every jetmesh primitive uses.
 void jmf_gltf_add_material(tinygltf::Model &m);

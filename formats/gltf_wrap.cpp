@@ -17,6 +17,7 @@
 // define TINYGLTF_IMPLEMENTATION here.
 #include <tiny_gltf.h>
 
+#include "gltf_bin.hpp"
 #include "gltf_model.hpp"
 
 namespace {
@@ -74,16 +75,6 @@ private:
     bool failed_ = false;
 };
 
-// Appends bytes to the buffer, 4-byte aligned; returns the offset.
-size_t append(std::vector<unsigned char> &buf, const void *src, size_t n)
-{
-    while (buf.size() % 4) buf.push_back(0);
-    const size_t off = buf.size();
-    buf.resize(off + n);
-    if (n) std::memcpy(buf.data() + off, src, n);
-    return off;
-}
-
 int add_view(tinygltf::Model &m, size_t off, size_t len, int target)
 {
     tinygltf::BufferView v;
@@ -134,8 +125,7 @@ std::string jmf_gltf_uri_encode(const char *s)
 
 // See gltf_model.hpp.
 jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p, tinygltf::Model &m,
-                                   std::vector<unsigned char> &buf, tinygltf::Primitive &prim, char *err,
-                                   size_t errlen)
+                                   jmf_gltf_bin &buf, tinygltf::Primitive &prim, char *err, size_t errlen)
 {
     const char *name = p->name ? p->name : "gltf";
     const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
@@ -189,21 +179,21 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
     prim.mode = TINYGLTF_MODE_TRIANGLES;
     prim.material = 0;
     if (!p->draco) {
-        buf.reserve(nv * (12 + (nrm ? 12 : 0) + (mesh->uvs ? 8 : 0)) + nt * 12 + 16);
-        const size_t op = append(buf, pos, nv * 12);
+        // the mesh's arrays are borrowed as they are (z-up: the rotated copies)
+        const size_t op = rpos.empty() ? buf.borrow(pos, nv * 12) : buf.own(std::move(rpos));
         const int ap = add_accessor(m, add_view(m, op, nv * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
                                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
         m.accessors[static_cast<size_t>(ap)].minValues = pmin;
         m.accessors[static_cast<size_t>(ap)].maxValues = pmax;
         prim.attributes["POSITION"] = ap;
         if (nrm) {
-            const size_t o = append(buf, nrm, nv * 12);
+            const size_t o = rnrm.empty() ? buf.borrow(nrm, nv * 12) : buf.own(std::move(rnrm));
             prim.attributes["NORMAL"] =
                 add_accessor(m, add_view(m, o, nv * 12, TINYGLTF_TARGET_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
         }
         if (mesh->uvs) {
-            const size_t o = append(buf, mesh->uvs, nv * 8);
+            const size_t o = buf.borrow(mesh->uvs, nv * 8);
             prim.attributes["TEXCOORD_0"] =
                 add_accessor(m, add_view(m, o, nv * 8, TINYGLTF_TARGET_ARRAY_BUFFER),
                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
@@ -211,14 +201,14 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
         // 65535 is the primitive-restart value: 16-bit only below it.
         const bool small = max_index < 65535;
         const size_t isz = small ? 2 : 4;
-        while (buf.size() % 4) buf.push_back(0);
-        const size_t oi = buf.size();
-        buf.resize(oi + 3 * nt * isz);
+        size_t oi;
         if (small) {
-            uint16_t *d = reinterpret_cast<uint16_t *>(buf.data() + oi);
+            std::vector<unsigned char> b(3 * nt * 2);
+            uint16_t *d = reinterpret_cast<uint16_t *>(b.data());
             for (size_t i = 0; i < 3 * nt; i++) d[i] = static_cast<uint16_t>(mesh->indices[i]);
+            oi = buf.own(std::move(b));
         } else {
-            std::memcpy(buf.data() + oi, mesh->indices, 3 * nt * 4);
+            oi = buf.borrow(mesh->indices, 3 * nt * 4);
         }
         prim.indices = add_accessor(
             m, add_view(m, oi, 3 * nt * isz, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
@@ -231,7 +221,8 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
         jmf_draco_blob blob;
         jmf_status st = jmf_draco_encode(&rot, &p->draco_params, name, &blob, err, errlen);
         if (st) return st;
-        const size_t o = append(buf, blob.data, blob.size);
+        const unsigned char *bd = static_cast<const unsigned char *>(blob.data);
+        const size_t o = buf.own(std::vector<unsigned char>(bd, bd + blob.size));
         const int view = add_view(m, o, blob.size, 0);
         const size_t np = blob.num_points, nf = blob.num_faces;
         tinygltf::Value::Object ids;
@@ -285,11 +276,22 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
             key += static_cast<char>(*c >= 'a' && *c <= 'z' ? *c - 'a' + 'A' : *c);
         static const int types[5] = {0, TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC2, TINYGLTF_TYPE_VEC3,
                                      TINYGLTF_TYPE_VEC4};
-        const size_t o = append(buf, src, nv * nc * 4);
+        const size_t o = rot.empty() ? buf.borrow(src, nv * nc * 4) : buf.own(std::move(rot));
         prim.attributes[key] = add_accessor(m, add_view(m, o, nv * nc * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
                                             TINYGLTF_COMPONENT_TYPE_FLOAT, types[nc], nv);
     }
     return JMF_OK;
+}
+
+jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p, tinygltf::Model &m,
+                                   std::vector<unsigned char> &buf, tinygltf::Primitive &prim, char *err,
+                                   size_t errlen)
+{
+    jmf_gltf_bin bin;
+    bin.size = buf.size();
+    const jmf_status st = jmf_gltf_fill_primitive(mesh, p, m, bin, prim, err, errlen);
+    if (!st) bin.flatten(buf);
+    return st;
 }
 
 void jmf_gltf_add_material(tinygltf::Model &m)
@@ -308,7 +310,7 @@ namespace {
 
 struct Built {
     MallocBuf main;
-    std::vector<unsigned char> bin; // the .bin, or the GLB's BIN chunk
+    jmf_gltf_bin bin;               // the .bin, or the GLB's BIN chunk
     size_t bin_pad = 0;             // GLB: zero bytes after bin
 };
 
@@ -337,7 +339,7 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
     tinygltf::Node node;
     node.name = "jetmesh";
 
-    std::vector<unsigned char> buf; // the one buffer
+    jmf_gltf_bin buf; // the one buffer
     if (nt > 0) {
         tinygltf::Primitive prim;
         jmf_status fst = jmf_gltf_fill_primitive(mesh, p, m, buf, prim, err, errlen);
@@ -357,10 +359,10 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
     bool ok = true;
     if (p->container == JMF_GLTF_EMBEDDED) {
         // tinygltf's stream writer embeds the buffer as a base64 data: URI.
-        built.main.reserve(buf.size() / 3 * 4 + buf.size() + 65536);
-        if (!buf.empty()) {
+        built.main.reserve(buf.size / 3 * 4 + buf.size + 65536);
+        if (buf.size) {
             m.buffers.resize(1);
-            m.buffers[0].data.swap(buf);
+            buf.flatten(m.buffers[0].data);
         }
         ok = gltf.WriteGltfSceneToStream(&m, os, true, false);
     } else {
@@ -382,10 +384,10 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
             std::snprintf(err, errlen, "%s: tinygltf could not serialize the model", name);
             return JMF_E_FORMAT;
         }
-        if (!buf.empty()) {
+        if (buf.size) {
             size_t end = close;
             while (end > 0 && (json[end - 1] == '\n' || json[end - 1] == ' ')) end--;
-            const std::string len = std::to_string(buf.size());
+            const std::string len = std::to_string(buf.size);
             const std::string entry =
                 pretty ? ",\n  \"buffers\": [\n    {\n      \"byteLength\": " + len +
                              ",\n      \"uri\": \"" +
@@ -397,7 +399,7 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
             // GLB: 12-byte header, JSON chunk padded with spaces, BIN chunk
             // padded with zeros (the padding bytes are built.bin_pad).
             while (json.size() % 4) json += ' ';
-            const uint64_t total = jmf_glb_total(json.size(), buf.size());
+            const uint64_t total = jmf_glb_total(json.size(), buf.size);
             if (total > 0xffffffffu) {
                 std::snprintf(err, errlen, "%s: mesh too large for GLB (over 4 GiB); use .gltf", name);
                 return JMF_E_LIMIT;
@@ -406,15 +408,15 @@ jmf_status build(const jm_mesh *mesh, const jmf_gltf_params *p, Built &built,
             jmf_glb_header(head, total, json.size());
             os.write(reinterpret_cast<const char *>(head), 20);
             os.write(json.data(), static_cast<std::streamsize>(json.size()));
-            if (!buf.empty()) {
-                jmf_glb_bin_header(head, buf.size());
+            if (buf.size) {
+                jmf_glb_bin_header(head, buf.size);
                 os.write(reinterpret_cast<const char *>(head), 8);
-                built.bin_pad = jmf_glb_pad4(buf.size()) - buf.size();
+                built.bin_pad = jmf_glb_pad4(buf.size) - buf.size;
             }
         } else {
             os.write(json.data(), static_cast<std::streamsize>(json.size()));
         }
-        built.bin.swap(buf);
+        built.bin = std::move(buf);
     }
     os.flush();
     if (!ok || !os || built.main.failed()) {
@@ -454,8 +456,9 @@ extern "C" jmf_status jmf_gltf_build(const jm_mesh *mesh, const jmf_gltf_params 
         return JMF_E_FORMAT;
     }
     out->main = b->main.release(&out->main_size);
-    out->bin = b->bin.data();
-    out->bin_size = b->bin.size();
+    out->bin = b->bin.pieces.data();
+    out->bin_pieces = b->bin.pieces.size();
+    out->bin_size = b->bin.size;
     out->bin_pad = b->bin_pad;
     out->priv = b;
     return JMF_OK;

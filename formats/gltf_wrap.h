@@ -31,17 +31,27 @@ typedef struct jmf_gltf_params {
     size_t attribute_count;
 } jmf_gltf_params;
 
+/** One range of a buffer's bytes. */
+typedef struct jmf_gltf_piece {
+    const unsigned char *data;
+    size_t size;
+} jmf_gltf_piece;
+
 /**
- * The bytes to write, owned by the builder: free with jmf_gltf_output_free().
+ * The bytes to write: free with jmf_gltf_output_free().
  * SEPARATE: main is the .gltf, bin the .bin (bin_size 0: no .bin needed).
  * EMBEDDED: main is the .gltf, bin is empty.
  * BINARY: the .glb is main, then bin, then bin_pad zero bytes (main holds
  * the GLB header, the JSON chunk and the BIN chunk's header).
+ * bin is bin_pieces ranges, bin_size bytes in all, written in order: most
+ * point into the mesh's own arrays (not copied), so write them before the
+ * mesh changes or is freed.
  */
 typedef struct jmf_gltf_output {
     unsigned char *main;
     size_t main_size;
-    const unsigned char *bin;
+    const jmf_gltf_piece *bin;
+    size_t bin_pieces;
     size_t bin_size;
     size_t bin_pad;
     void *priv;

@@ -175,6 +175,15 @@ static char *bin_path_for(const char *path)
     return b;
 }
 
+/* the glTF buffer's pieces, in order */
+static jmf_status write_pieces(jmf_atomic_file *af, const jmf_gltf_output *out, char *err, size_t errlen)
+{
+    jmf_status st = JMF_OK;
+    for (size_t i = 0; i < out->bin_pieces && !st; i++)
+        st = jmf_atomic_write(af, out->bin[i].data, out->bin[i].size, err, errlen);
+    return st;
+}
+
 static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int draco,
                              const jmf_write_options *opt, size_t *bytes,
                              jmf_staged *stage, char *err, size_t errlen)
@@ -211,7 +220,7 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
         st = jmf_atomic_open(&af, path, err, errlen);
         if (!st) af.no_sync = opt && opt->no_sync;
         if (!st) st = jmf_atomic_write(&af, out.main, out.main_size, err, errlen);
-        if (!st) st = jmf_atomic_write(&af, out.bin, out.bin_size, err, errlen);
+        if (!st) st = write_pieces(&af, &out, err, errlen);
         if (!st) st = jmf_atomic_write(&af, zeros, out.bin_pad, err, errlen);
         if (!st) {
             st = commit_or_stage(&af, stage, bytes, err, errlen);
@@ -231,7 +240,7 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
         }
         if (!st) fb.no_sync = fg.no_sync = opt && opt->no_sync;
         if (!st) {
-            st = jmf_atomic_write(&fb, out.bin, out.bin_size, err, errlen);
+            st = write_pieces(&fb, &out, err, errlen);
             if (!st) st = jmf_atomic_write(&fg, out.main, out.main_size, err, errlen);
             if (!st) st = commit_or_stage(&fb, stage, bytes, err, errlen);
             else jmf_atomic_abort(&fb);

@@ -70,7 +70,8 @@ typedef struct jm_soa {
     jm_mem *mem;      /* counts buf (NULL: uncounted) */
 } jm_soa;
 
-/* Gathers the particles whose support reaches the box [lo, hi]. */
+/* Gathers the particles whose support reaches the box [lo, hi]
+ * (sph_normals.c). */
 void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3], const float hi[3],
                    jm_soa *out);
 /* SPH outward unit normal at p from the gathered particles; 0 if the

@@ -4,6 +4,7 @@
 #include "post.h"
 #include "metavertex.h"
 #include "units.h"
+#include "grow.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -133,10 +134,10 @@ void jm_context_free(jm_context *ctx)
     drop_scratch(ctx);
     for (size_t i = 0; i < ctx->nbouts; i++) jm_bout_free(&ctx->bouts[i], &ctx->mem);
     jm_free(&ctx->mem, ctx->bouts, ctx->nbouts * sizeof *ctx->bouts);
-    jm_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
-    jm_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
-    jm_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
-    jm_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
     jm_post_scratch_free(&ctx->post, &ctx->mem);
     jm_pool_free(ctx->pool);
     free(ctx);
@@ -149,16 +150,16 @@ static int reserve_mesh(jm_context *ctx, size_t nv, size_t ni)
         size_t nc = ctx->capv + ctx->capv / 2;
         if (nc < nv) nc = nv;
         if (nc < 1024) nc = 1024;
-        float *p = jm_realloc(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+        float *p = jm_grow(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
         if (!p) return 0;
         ctx->pos = p;
-        float *n = jm_realloc(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
-        if (!n) { ctx->pos = jm_realloc(&ctx->mem, ctx->pos, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float)); return 0; }
+        float *n = jm_grow(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+        if (!n) { ctx->pos = jm_grow(&ctx->mem, ctx->pos, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float)); return 0; }
         ctx->nrm = n;
-        float *u = jm_realloc(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float), nc * 2 * sizeof(float));
+        float *u = jm_grow(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float), nc * 2 * sizeof(float));
         if (!u) {
-            ctx->pos = jm_realloc(&ctx->mem, ctx->pos, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
-            ctx->nrm = jm_realloc(&ctx->mem, ctx->nrm, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
+            ctx->pos = jm_grow(&ctx->mem, ctx->pos, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
+            ctx->nrm = jm_grow(&ctx->mem, ctx->nrm, nc * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
             return 0;
         }
         ctx->uv = u;
@@ -168,7 +169,7 @@ static int reserve_mesh(jm_context *ctx, size_t nv, size_t ni)
         size_t nc = ctx->capi + ctx->capi / 2;
         if (nc < ni) nc = ni;
         if (nc < 3072) nc = 3072;
-        uint32_t *p = jm_realloc(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t), nc * sizeof(uint32_t));
+        uint32_t *p = jm_grow(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t), nc * sizeof(uint32_t));
         if (!p) return 0;
         ctx->idx = p;
         ctx->capi = nc;

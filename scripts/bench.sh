@@ -167,6 +167,41 @@ else
   echo "== peer: skipped: $PEER is missing (set JETMESH_SHARED)"
 fi
 
+# --- whole process, side by side with splashsurf (issue 10) -----------------------
+# The 1M block file read, meshed and written by each process: `jetmesh convert
+# -o x.glb` (SPH, mc, GLB with normals and UVs, flushed to disk before its
+# rename, as by default) against `ssbench -o x.obj` (read + reconstruct + its
+# only mesh output, an OBJ with normals). Alternating rounds; wall seconds and
+# peak RSS of each process from /usr/bin/time, jetmesh's library peak from its
+# --stats. Medians in BENCHMARKS.md.
+WHOLE_DIR="$OUT/whole"
+mkdir -p "$WHOLE_DIR"
+if [ -x "$PEER" ] && [ -x /usr/bin/time ]; then
+  "$J" generate block 1000000 -q -o "$T/block1m.xyz" || status=1
+  echo "== whole process: $J convert -o .glb beside $PEER -o .obj, 1M block, $PROUNDS rounds"
+  r=1
+  while [ $r -le "$PROUNDS" ]; do
+    for t in 1 2; do
+      /usr/bin/time -f '{"wall_s": %e, "max_rss_kb": %M}' -o "$WHOLE_DIR/ss_t${t}_$r.time" \
+        "$PEER" "$T/block1m.xyz" -r 0.025 -s 0.0125 --threads $t -o "$T/ss1m.obj" \
+        >"$WHOLE_DIR/ss_t${t}_$r.json" 2>>"$WHOLE_DIR/log" || status=1
+      rm -f "$T/ss1m.obj"
+      # shellcheck disable=SC2086
+      /usr/bin/time -f '{"wall_s": %e, "max_rss_kb": %M}' -o "$WHOLE_DIR/jm_t${t}_$r.time" \
+        "$J" convert "$T/block1m.xyz" -r 0.025 $SPH --method mc -j $t -q -o "$T/jm1m.glb" \
+        --stats "$WHOLE_DIR/jm_t${t}_$r.json" >>"$WHOLE_DIR/log" 2>&1 || status=1
+      rm -f "$T/jm1m.glb"
+    done
+    r=$((r + 1))
+  done
+  rm -f "$T/block1m.xyz"
+  echo "$PEER <block1m.xyz> -r 0.025 -s 0.0125 --threads 1|2 -o <x.obj>   (whole process, /usr/bin/time)" >>"$OUT/commands.sh"
+  echo "$J convert <block1m.xyz> -r 0.025 $SPH --method mc -j 1|2 -q -o <x.glb> --stats <x.json>   (whole process, /usr/bin/time)" >>"$OUT/commands.sh"
+else
+  echo "== whole process: skipped: $PEER or /usr/bin/time is missing"
+fi
+# --- end of the whole-process block ----------------------------------------------
+
 # --- build/bench.json -------------------------------------------------------------
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
@@ -199,9 +234,9 @@ echo "wrote $BUILD/bench.json"
 # --- BENCHMARKS.md -------------------------------------------------------------
 elapsed=$(( $(date +%s) - started ))
 if command -v node >/dev/null 2>&1; then
-  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" "$PEER_DIR" "$peer_build" >"$MD.tmp" <<'EOF' || status=1
+  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" "$PEER_DIR" "$peer_build" "$WHOLE_DIR" >"$MD.tmp" <<'EOF' || status=1
 const fs = require("fs");
-const [file, cmdfile, elapsed, peerDir, peerBuild] = process.argv.slice(2);
+const [file, cmdfile, elapsed, peerDir, peerBuild, wholeDir] = process.argv.slice(2);
 const B = JSON.parse(fs.readFileSync(file, "utf8"));
 const cmds = fs.readFileSync(cmdfile, "utf8").trim();
 const out = [];
@@ -243,6 +278,23 @@ const ss1m = (t) => median(peerRuns("ss1m_t" + t, (d) => d.total_s * 1e3));
 const jm1m = (t) => median(peerRuns("jm1m_t" + t, (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
 const jmPostTotal = median(peerRuns("jm_post", (d) => d.cases[0].status === "ok" ? d.cases[0].ms.total.median : null));
 const jmPost = jmPostTotal != null && jmTotal(1) != null ? jmPostTotal - jmTotal(1) : null;
+// issue 10: whole processes (read, mesh, write) side by side, medians over the rounds
+function wholeRuns(prefix, ext, pick) {
+  if (!wholeDir || !fs.existsSync(wholeDir)) return [];
+  return fs.readdirSync(wholeDir).filter((n) => n.startsWith(prefix + "_") && n.endsWith(ext)).map((n) => {
+    try { return pick(JSON.parse(fs.readFileSync(wholeDir + "/" + n, "utf8"))); } catch (e) { return null; }
+  });
+}
+const W = {
+  ss: (t) => median(wholeRuns("ss_t" + t, ".time", (d) => d.wall_s)),
+  jm: (t) => median(wholeRuns("jm_t" + t, ".time", (d) => d.wall_s)),
+  ssRss: (t) => median(wholeRuns("ss_t" + t, ".time", (d) => d.max_rss_kb * 1024)),
+  jmRss: (t) => median(wholeRuns("jm_t" + t, ".time", (d) => d.max_rss_kb * 1024)),
+  jmLib: (t) => median(wholeRuns("jm_t" + t, ".json", (d) => d.frames[0].lib_peak_bytes)),
+  ssPart: (t, k) => median(wholeRuns("ss_t" + t, ".json", (d) => d[k])),
+  jmPart: (t, k) => median(wholeRuns("jm_t" + t, ".json", (d) => d.frames[0][k])),
+};
+const wholeOk = [1, 2].every((t) => W.ss(t) != null && W.jm(t) != null);
 
 p("# jetmesh benchmarks");
 p();
@@ -318,6 +370,17 @@ if (peerBuild) {
   row("the same smoothing takes less than splashsurf's post-processing on the same mesh",
       jmPost != null && ssPost != null ? `${f(jmPost, 1)} ms against ${f(ssPost, 1)} ms` : "–",
       jmPost != null && ssPost != null ? jmPost < ssPost : null);
+  // issue 10: whole process
+  if (wholeOk) {
+    const r1 = W.jm(1) / W.ss(1), r2 = W.jm(2) / W.ss(2);
+    row("1M block, whole process (read .xyz, mesh, write): `jetmesh convert` to GLB ≤ 0.4× splashsurf's to OBJ, 1 and 2 threads",
+        `${f(r1, 2)}× / ${f(r2, 2)}× (${f(W.jm(1), 2)} s against ${f(W.ss(1), 2)} s; ${f(W.jm(2), 2)} s against ${f(W.ss(2), 2)} s)`,
+        r1 <= 0.4 && r2 <= 0.4);
+    const mx = (g) => Math.max(g(1) || 0, g(2) || 0);
+    row("1M block, whole process: peak RSS ≤ splashsurf's (max of 1 and 2 threads)",
+        `${mb(mx(W.jmRss))} MB against ${mb(mx(W.ssRss))} MB (jetmesh lib peak ${mb(mx(W.jmLib))} MB)`,
+        mx(W.jmRss) <= mx(W.ssRss));
+  }
 }
 p();
 
@@ -343,6 +406,27 @@ if (!peerBuild) {
     p(`| 1M, ${t} thread${t > 1 ? "s" : ""} (one jetmesh run a round) | ${f(ss1m(t), 1)} | ${f(jm1m(t), 1)} | ${ss1m(t) && jm1m(t) ? f(jm1m(t) / ss1m(t), 2) : "–"} |`);
   p(`| post-processing, 1 thread | ${f(ssPost, 1)} | ${f(jmPost, 1)} | ${ssPost && jmPost ? f(jmPost / ssPost, 2) : "–"} |`);
   p();
+  // issue 10: whole process
+  if (wholeOk) {
+    p("Whole process on the 1M block file (medians of the rounds, which alternate the two): " +
+      "`jetmesh convert <block1m.xyz> -r 0.025 --field sph --smoothing-length 2 --threshold 0.6 --method mc -o x.glb` " +
+      "(reads the .xyz, meshes, writes the GLB with normals and UVs, flushed to disk before its rename) against " +
+      "`ssbench <block1m.xyz> -r 0.025 -s 0.0125 -o x.obj` (reads, reconstructs, writes its only mesh output, an OBJ " +
+      "with normals); wall time and peak RSS of each process from `/usr/bin/time`; the parts from each " +
+      "one's own report (jetmesh `--stats`: read, mesh = field + extract + attributes, write including the flush " +
+      "and rename; ssbench's JSON: read_s, field_s, write_s).");
+    p();
+    p("| threads | splashsurf s | jetmesh s | ratio | splashsurf read / reconstruct / write s | jetmesh read / mesh / write s | splashsurf peak RSS MB | jetmesh peak RSS MB | jetmesh lib peak MB |");
+    p("|---|--:|--:|--:|---|---|--:|--:|--:|");
+    for (const t of [1, 2]) {
+      const jmMesh = W.jmPart(t, "ms_field") + W.jmPart(t, "ms_extract") + W.jmPart(t, "ms_attributes");
+      p(`| ${t} | ${f(W.ss(t), 2)} | ${f(W.jm(t), 2)} | ${f(W.jm(t) / W.ss(t), 2)} | ` +
+        `${f(W.ssPart(t, "read_s"), 2)} / ${f(W.ssPart(t, "field_s"), 2)} / ${f(W.ssPart(t, "write_s"), 2)} | ` +
+        `${f(W.jmPart(t, "ms_read") / 1e3, 2)} / ${f(jmMesh / 1e3, 2)} / ${f(W.jmPart(t, "ms_write") / 1e3, 2)} | ` +
+        `${mb(W.ssRss(t))} | ${mb(W.jmRss(t))} | ${mb(W.jmLib(t))} |`);
+    }
+    p();
+  }
   p("The figures an earlier report quoted for splashsurf (10.2 s / 6.3 s at 1M particles) came from a " +
     "build for generic x86-64, not from a side-by-side run: they are withdrawn.");
 }

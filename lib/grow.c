@@ -1,0 +1,63 @@
+/* grow.c - arrays that grow across a frame: their own mappings grown by mremap on Linux (pages moved, not copied), realloc elsewhere. */
+#if defined(__linux__)
+#define _GNU_SOURCE
+#include <sys/mman.h>
+#endif
+#include "grow.h"
+#include <stdlib.h>
+#include <string.h>
+
+#if defined(__linux__) && defined(MREMAP_MAYMOVE)
+static int mapped(size_t bytes) { return bytes >= JM_GROW_MAP; }
+#else
+static int mapped(size_t bytes) { (void)bytes; return 0; }
+#endif
+
+void *jm_grow(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
+{
+    if (new_bytes == 0) new_bytes = 1;
+    if (!p) old_bytes = 0;
+    if (!mapped(old_bytes) && !mapped(new_bytes)) return jm_realloc(m, p, old_bytes, new_bytes);
+    size_t grow = new_bytes > old_bytes ? new_bytes - old_bytes : 0;
+    if (m && grow && !jm_mem_take(m, grow)) return NULL;
+    void *q = NULL;
+#if defined(__linux__) && defined(MREMAP_MAYMOVE)
+    if (mapped(old_bytes) && mapped(new_bytes)) {
+        q = mremap(p, old_bytes, new_bytes, MREMAP_MAYMOVE);
+        if (q == MAP_FAILED) q = NULL;
+    } else if (mapped(new_bytes)) { /* from the heap into a mapping */
+        q = mmap(NULL, new_bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (q == MAP_FAILED) q = NULL;
+        if (q && p) {
+            memcpy(q, p, old_bytes);
+            free(p);
+        }
+    } else { /* from a mapping back to the heap */
+        q = malloc(new_bytes);
+        if (q) {
+            memcpy(q, p, new_bytes);
+            munmap(p, old_bytes);
+        }
+    }
+#endif
+    if (!q) {
+        if (m && grow) jm_mem_sub(m, grow);
+        return NULL;
+    }
+    if (m && new_bytes < old_bytes) jm_mem_sub(m, old_bytes - new_bytes);
+    return q;
+}
+
+void jm_grow_free(jm_mem *m, void *p, size_t bytes)
+{
+    if (!p) return;
+    if (bytes == 0) bytes = 1;
+#if defined(__linux__) && defined(MREMAP_MAYMOVE)
+    if (mapped(bytes)) {
+        munmap(p, bytes);
+        if (m) jm_mem_sub(m, bytes);
+        return;
+    }
+#endif
+    jm_free(m, p, bytes);
+}

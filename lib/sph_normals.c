@@ -1,0 +1,104 @@
+/* sph_normals.c - SPH normals: the particles near a part of a block gathered in groups of 8 (only the hood's cells that can hold them visited) and the gradient summed over them. */
+#include "field.h"
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+
+/* The normal loop is built twice, for AVX2 machines and for any x86-64,
+ * chosen at load time. No FMA contraction (-std=c11 implies
+ * -ffp-contract=off), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
+#define JM_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define JM_CLONES
+#endif
+
+/* The hood's cells (their index range along axis a, from 0) that can hold
+ * a particle within [lo - R, hi + R]: a particle at x lies in the grid's
+ * cell floor(x / cell) (grid.c), so a 64th of R more on each side is far
+ * more than rounding can move a boundary. */
+static void cell_span(const jm_grid *g, const jm_hood *hood, int a, float lo, float hi, float R, int *c0, int *c1)
+{
+    const float m = R + R * (1.0f / 64.0f);
+    int64_t l = (int64_t)floorf((lo - m) * g->inv_cell) - hood->c0[a];
+    int64_t h = (int64_t)floorf((hi + m) * g->inv_cell) - hood->c0[a];
+    *c0 = l < 0 ? 0 : (int)l;
+    *c1 = h >= hood->n[a] ? hood->n[a] - 1 : (int)h;
+}
+
+/* Only the hood's cells that can hold a particle of the box are visited, in
+ * the hood's order: the same particles in the same order as a visit of
+ * every cell. */
+void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3], const float hi[3],
+                   jm_soa *out)
+{
+    const float R = c->support;
+    int x0, x1, y0, y1, z0, z1;
+    cell_span(g, hood, 0, lo[0], hi[0], R, &x0, &x1);
+    cell_span(g, hood, 1, lo[1], hi[1], R, &y0, &y1);
+    cell_span(g, hood, 2, lo[2], hi[2], R, &z0, &z1);
+    out->n = 0;
+    for (int z = z0; z <= z1; z++)
+        for (int y = y0; y <= y1; y++)
+            for (int x = x0; x <= x1; x++) {
+                const size_t k = ((size_t)z * hood->n[1] + (size_t)y) * hood->n[0] + (size_t)x;
+                for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+                    const float *q = GP(g, p);
+                    if (q[0] < lo[0] - R || q[0] > hi[0] + R || q[1] < lo[1] - R || q[1] > hi[1] + R ||
+                        q[2] < lo[2] - R || q[2] > hi[2] + R || g->isolated[p])
+                        continue;
+                    if (out->n + 8 > out->cap) {
+                        size_t nc = out->cap ? out->cap * 2 : 1024;
+                        float *b = jm_realloc(out->mem, out->buf, 4 * out->cap * sizeof *b, 4 * nc * sizeof *b);
+                        if (!b) { out->n = SIZE_MAX; return; }
+                        out->buf = b;
+                        out->cap = nc;
+                    }
+                    float *b = out->buf + 4 * (out->n & ~(size_t)7) + (out->n & 7);
+                    b[0] = q[0];
+                    b[8] = q[1];
+                    b[16] = q[2];
+                    b[24] = g->weight[p];
+                    out->n++;
+                }
+            }
+    /* pad the last group of 8 with weightless particles far away */
+    for (size_t m = out->n; m & 7; m++) {
+        float *b = out->buf + 4 * (m & ~(size_t)7) + (m & 7);
+        b[0] = b[8] = b[16] = 1e30f;
+        b[24] = 0.0f;
+    }
+}
+
+/* Outward normal from the gathered particles: groups of 8 (x8, y8, z8, w8),
+ * eight lanes summed in a fixed order, so SSE and AVX builds agree. */
+JM_CLONES int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3])
+{
+    const float R2 = c->support * c->support, inv = 1.0f / c->sph_h;
+    float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
+    size_t groups = (s->n + 7) / 8;
+    for (size_t gi = 0; gi < groups; gi++) {
+        const float *b = s->buf + 32 * gi;
+        for (int l = 0; l < 8; l++) {
+            float dx = p[0] - b[l], dy = p[1] - b[8 + l], dz = p[2] - b[16 + l];
+            float d2 = dx * dx + dy * dy + dz * dz;
+            float d = sqrtf(d2);
+            float k = d2 < R2 && d2 > 0.0f ? b[24 + l] * jm_cubic_dw(d * inv) / d : 0.0f;
+            gx[l] += k * dx;
+            gy[l] += k * dy;
+            gz[l] += k * dz;
+        }
+    }
+    float o[3] = {0, 0, 0};
+    for (int l = 0; l < 8; l++) {
+        o[0] -= gx[l];
+        o[1] -= gy[l];
+        o[2] -= gz[l];
+    }
+    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(len > 0.0f) || !isfinite(len)) return 0;
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
+    return 1;
+}
