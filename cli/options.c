@@ -490,6 +490,10 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         if (o->params.method == JM_METHOD_DEFAULT)
             o->params.method = JM_METHOD_MC;
     }
+    /* the documented default: mc with the SPH field (the library's own
+     * default is mt, the paper's method, whatever the field) */
+    if (!o->field_auto && o->params.field == JM_FIELD_SPH && o->params.method == JM_METHOD_DEFAULT)
+        o->params.method = JM_METHOD_MC;
     if ((o->params.anisotropic || o->params.aniso_radius > 0) && o->params.field != JM_FIELD_SPH)
         return options_usage_error(cmd, "--anisotropic works on the SPH field only: add --field sph");
     if (o->params.aniso_radius > 0 && !o->params.anisotropic)
