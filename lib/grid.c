@@ -208,7 +208,6 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
 {
     size_t n = g->n;
     jm_free(mem, g->pos, 3 * n * sizeof(float));
-    jm_free(mem, g->order, n * sizeof(uint32_t));
     jm_free(mem, g->weight, n * sizeof(float));
     jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
     jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
@@ -219,6 +218,7 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     jm_free(mem, g->isolated, n);
     jm_aniso_free(g, mem);
     if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
+    jm_free(mem, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense);
     memset(g, 0, sizeof *g);
 }
 
@@ -272,7 +272,29 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         jm_free(mem, tmp, n * sizeof *tmp);
     }
 
-    jm_status st = jm_hashmap_init(&g->cells, mem, n / 2 + 16);
+    /* cells: where the particles' box holds no more cells than there are
+     * particles (bulk fluid: 8 particles a cell at rest), a dense index over
+     * that box (at most 4 bytes a particle, one load a look-up); else a
+     * hash map. Either numbers the cells alike, in order of first
+     * appearance, and answers every look-up alike. */
+    jm_status st = JM_OK;
+    double box = 1.0;
+    int64_t clo[3] = {0, 0, 0};
+    for (int a = 0; a < 3 && n; a++) {
+        clo[a] = (int64_t)floorf(lo[a] * g->inv_cell);
+        box *= (double)((int64_t)floorf(hi[a] * g->inv_cell) - clo[a] + 1);
+    }
+    if (n && box <= (double)n + 64.0) {
+        for (int a = 0; a < 3; a++) {
+            g->dense_lo[a] = clo[a];
+            g->dense_n[a] = (int64_t)floorf(hi[a] * g->inv_cell) - clo[a] + 1;
+        }
+        g->dense = jm_alloc(mem, (size_t)box * sizeof *g->dense);
+        if (!g->dense) st = JM_E_OUT_OF_MEMORY;
+        else memset(g->dense, 0xff, (size_t)box * sizeof *g->dense);
+    } else {
+        st = jm_hashmap_init(&g->cells, mem, n / 2 + 16);
+    }
     uint32_t *pcell = jm_alloc(mem, (n ? n : 1) * sizeof *pcell);
     uint32_t *count = NULL;
     size_t count_cap = 0;
@@ -285,17 +307,25 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         int64_t cx = (int64_t)floorf(p[0] * g->inv_cell) - g->origin[0];
         int64_t cy = (int64_t)floorf(p[1] * g->inv_cell) - g->origin[1];
         int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
-        if (g->cells.count * 2 + 2 > g->cells.cap) {
-            /* rehash into a bigger table */
-            jm_hashmap big;
-            st = jm_hashmap_init(&big, mem, g->cells.cap);
-            if (st != JM_OK) goto fail;
-            for (size_t s = 0; s < g->cells.cap; s++)
-                if (g->cells.keys[s] != JM_HASH_EMPTY) *jm_hashmap_upsert(&big, g->cells.keys[s]) = g->cells.vals[s];
-            jm_hashmap_free(&g->cells, mem);
-            g->cells = big;
+        uint32_t *v;
+        if (g->dense) {
+            /* within the box: floorf is monotone and lo, hi bound p */
+            int64_t d[3] = {cx + g->origin[0] - g->dense_lo[0], cy + g->origin[1] - g->dense_lo[1],
+                            cz + g->origin[2] - g->dense_lo[2]};
+            v = &g->dense[((size_t)d[2] * (size_t)g->dense_n[1] + (size_t)d[1]) * (size_t)g->dense_n[0] + (size_t)d[0]];
+        } else {
+            if (g->cells.count * 2 + 2 > g->cells.cap) {
+                /* rehash into a bigger table */
+                jm_hashmap big;
+                st = jm_hashmap_init(&big, mem, g->cells.cap);
+                if (st != JM_OK) goto fail;
+                for (size_t s = 0; s < g->cells.cap; s++)
+                    if (g->cells.keys[s] != JM_HASH_EMPTY) *jm_hashmap_upsert(&big, g->cells.keys[s]) = g->cells.vals[s];
+                jm_hashmap_free(&g->cells, mem);
+                g->cells = big;
+            }
+            v = jm_hashmap_upsert(&g->cells, jm_key3(cx, cy, cz));
         }
-        uint32_t *v = jm_hashmap_upsert(&g->cells, jm_key3(cx, cy, cz));
         if (*v == UINT32_MAX) {
             if (ncells == count_cap) {
                 size_t nc = count_cap ? count_cap * 2 : 256;
@@ -317,9 +347,8 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     g->cell_start = jm_alloc(mem, (ncells + 1) * sizeof *g->cell_start);
     g->cell_coord = jm_alloc(mem, (ncells ? 3 * ncells : 1) * sizeof *g->cell_coord);
     g->pos = jm_alloc(mem, (n ? 3 * n : 1) * sizeof(float));
-    g->order = jm_alloc(mem, (n ? n : 1) * sizeof(uint32_t));
     g->isolated = jm_calloc(mem, n ? n : 1, 1);
-    if (!g->cell_start || !g->cell_coord || !g->pos || !g->order || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+    if (!g->cell_start || !g->cell_coord || !g->pos || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     uint32_t acc = 0;
     for (size_t ci = 0; ci < ncells; ci++) {
         g->cell_start[ci] = acc;
@@ -331,7 +360,6 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     for (size_t k = 0; k < n; k++) {
         uint32_t dst = count[4 * pcell[k]]++;
         load_units(GP(g, dst), base + (size_t)order[k] * stride, c->unit_in);
-        g->order[dst] = order[k];
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);
     count = NULL;
