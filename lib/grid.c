@@ -119,40 +119,70 @@ static void sph_cell(void *arg, size_t ci, int worker)
     for (int k = 0; k < nr; k++) m += r[k][1] - r[k][0];
     size_t cap = (m + 7) & ~(size_t)7;
     if (cap > job->soa_cap[worker]) {
-        float *b = jm_realloc(job->mem, job->soa[worker], 3 * job->soa_cap[worker] * sizeof *b, 3 * cap * sizeof *b);
+        float *b = jm_realloc(job->mem, job->soa[worker], 6 * job->soa_cap[worker] * sizeof *b, 6 * cap * sizeof *b);
         if (!b) { job->failed = 1; return; }
         job->soa[worker] = b;
         job->soa_cap[worker] = cap;
     }
-    float *xs = job->soa[worker], *ys = xs + cap, *zs = ys + cap;
+    /* each group of 8 neighbours twice in a row: 16 lanes for two particles */
+    float *xs = job->soa[worker], *ys = xs + 2 * cap, *zs = ys + 2 * cap;
     size_t t = 0;
     for (int k = 0; k < nr; k++)
         for (uint32_t j = r[k][0]; j < r[k][1]; j++, t++) {
-            xs[t] = g->pos[3 * (size_t)j];
-            ys[t] = g->pos[3 * (size_t)j + 1];
-            zs[t] = g->pos[3 * (size_t)j + 2];
+            size_t at = 16 * (t >> 3) + (t & 7);
+            xs[at] = xs[at + 8] = g->pos[3 * (size_t)j];
+            ys[at] = ys[at + 8] = g->pos[3 * (size_t)j + 1];
+            zs[at] = zs[at + 8] = g->pos[3 * (size_t)j + 2];
         }
-    for (; t < cap; t++) xs[t] = ys[t] = zs[t] = 1e30f;
-    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
-        const float px = g->pos[3 * (size_t)i], py = g->pos[3 * (size_t)i + 1], pz = g->pos[3 * (size_t)i + 2];
-        float lane[8] = {0};
-        int near[8] = {0};
-        for (size_t b = 0; b < cap; b += 8)
-            for (int l = 0; l < 8; l++) {
-                float dx = xs[b + l] - px, dy = ys[b + l] - py, dz = zs[b + l] - pz;
-                float d2 = dx * dx + dy * dy + dz * dz;
-                lane[l] += jm_cubic_w(sqrtf(d2) * inv); /* 0 beyond the support */
-                near[l] += d2 < sup2;
+    for (; t < cap; t++) {
+        size_t at = 16 * (t >> 3) + (t & 7);
+        xs[at] = xs[at + 8] = ys[at] = ys[at + 8] = zs[at] = zs[at + 8] = 1e30f;
+    }
+    const uint32_t end = g->cell_start[ci + 1];
+    for (uint32_t i = g->cell_start[ci]; i < end; i += 2) {
+        /* particles i and i + 1 at once, lanes 0-7 and 8-15 (one 16-lane
+         * register where the CPU has them), or i alone: each lane gets the
+         * same operations in the same order either way, so the same sums */
+        const int two = i + 1 < end;
+        float lane[16] = {0};
+        int near[16] = {0};
+        if (two) {
+            float px[16], py[16], pz[16];
+            for (int l = 0; l < 16; l++) {
+                const float *q = GP(g, i + (uint32_t)(l >> 3));
+                px[l] = q[0];
+                py[l] = q[1];
+                pz[l] = q[2];
             }
-        float sum = 0.0f;
-        int count = 0;
-        for (int l = 0; l < 8; l++) {
-            sum += lane[l];
-            count += near[l];
+            for (size_t b = 0; b < cap; b += 8)
+                for (int l = 0; l < 16; l++) {
+                    float dx = xs[2 * b + l] - px[l], dy = ys[2 * b + l] - py[l], dz = zs[2 * b + l] - pz[l];
+                    float d2 = dx * dx + dy * dy + dz * dz;
+                    lane[l] += jm_cubic_w(sqrtf(d2) * inv); /* 0 beyond the support */
+                    near[l] += d2 < sup2;
+                }
+        } else {
+            const float px = g->pos[3 * (size_t)i], py = g->pos[3 * (size_t)i + 1], pz = g->pos[3 * (size_t)i + 2];
+            for (size_t b = 0; b < cap; b += 8)
+                for (int l = 0; l < 8; l++) {
+                    float dx = xs[2 * b + l] - px, dy = ys[2 * b + l] - py, dz = zs[2 * b + l] - pz;
+                    float d2 = dx * dx + dy * dy + dz * dz;
+                    lane[l] += jm_cubic_w(sqrtf(d2) * inv);
+                    near[l] += d2 < sup2;
+                }
         }
-        g->weight[i] = 1.0f / sum; /* sum >= w(0) = 1 */
-        /* count includes the particle itself (and any exact duplicates) */
-        g->isolated[i] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
+        for (int k = 0; k <= two; k++) {
+            const uint32_t pi = i + (uint32_t)k;
+            float sum = 0.0f;
+            int count = 0;
+            for (int l = 0; l < 8; l++) {
+                sum += lane[8 * k + l];
+                count += near[8 * k + l];
+            }
+            g->weight[pi] = 1.0f / sum; /* sum >= w(0) = 1 */
+            /* count includes the particle itself (and any exact duplicates) */
+            g->isolated[pi] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, pi, job->range, job->iso2);
+        }
     }
 }
 
@@ -404,7 +434,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             goto fail;
         }
         jm_pool_run(pool, ncells, 16, sph_cell, &job);
-        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 3 * job.soa_cap[w] * sizeof(float));
+        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 6 * job.soa_cap[w] * sizeof(float));
         jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
         jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto fail; }
