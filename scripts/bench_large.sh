@@ -4,6 +4,8 @@
 # Usage: scripts/bench_large.sh [BUILD_DIR]   (make bench-large builds first, then calls this)
 # Env:   JETMESH_SHARED  the shared data folder (default: ../shared beside the repo)
 #        BENCH_LARGE_MD=FILE  where to write the report (default BENCHMARKS_LARGE.md)
+#        BENCH_LARGE_SIZES="A B C"  the three blocks (default "1000000 8000000
+#                        13350000"; small ones check the script itself)
 # Takes a few minutes and about 2 GB of memory (the 13.35M block); the
 # default `make bench` does not run it. Needs node for the report.
 # Exit status: 0 every case ran, 1 a case (or the report) failed, 2 usage.
@@ -30,8 +32,11 @@ SPH="--field sph --smoothing-length 2 --threshold 0.6 --method mc"
 
 # the blocks: jittered lattices of spacing 2r (r = 0.025); 8M has twice the
 # side of 1M; 13.35M is the size of splashsurf's published record
-for n in 1000000 8000000 13350000; do
-  "$J" generate block $n -q -o "$T/block_$n.xyz" || status=1
+SIZES=${BENCH_LARGE_SIZES:-1000000 8000000 13350000}
+set -- $SIZES
+N1=$1 N8=$2 N13=$3
+for n in $N1 $N8 $N13; do
+  "$J" generate block "$n" -q -o "$T/block_$n.xyz" || status=1
 done
 run() { # NAME ARGS...: one jetmesh bench run into $OUT/NAME.json
   name=$1
@@ -43,23 +48,23 @@ run() { # NAME ARGS...: one jetmesh bench run into $OUT/NAME.json
 }
 # 1M and 8M at 1 and 2 threads: one warm-up and 3 timed runs each
 # shellcheck disable=SC2086
-run scaling "$T/block_1000000.xyz" "$T/block_8000000.xyz" $SPH -j 1,2 --min-time 0 --repeat 3
+run scaling "$T/block_$N1.xyz" "$T/block_$N8.xyz" -r 0.025 $SPH -j 1,2 --min-time 0 --repeat 3
 # 13.35M on the 2 cores: one warm-up and 2 timed runs
 # shellcheck disable=SC2086
-run record "$T/block_13350000.xyz" $SPH -j 2 --min-time 0 --repeat 2
+run record "$T/block_$N13.xyz" -r 0.025 $SPH -j 2 --min-time 0 --repeat 2
 
 # memory beside splashsurf at 1M (2 threads): peak resident set of each
 # whole process (/usr/bin/time %M: input, field and mesh)
 PEER="$SHARED/peers/splashsurf/ssbench"
 peer_kb="" jm_kb=""
 if [ -x "$PEER" ] && [ -x /usr/bin/time ]; then
-  /usr/bin/time -f "%M" -o "$OUT/ss_rss" "$PEER" "$T/block_1000000.xyz" -r 0.025 -s 0.0125 --threads 2 \
+  /usr/bin/time -f "%M" -o "$OUT/ss_rss" "$PEER" "$T/block_$N1.xyz" -r 0.025 -s 0.0125 --threads 2 \
     >"$OUT/ss_1m.json" 2>>"$OUT/peer.log" && peer_kb=$(tail -n 1 "$OUT/ss_rss")
   # shellcheck disable=SC2086
-  /usr/bin/time -f "%M" -o "$OUT/jm_rss" "$J" convert "$T/block_1000000.xyz" -r 0.025 $SPH -j 2 -q \
+  /usr/bin/time -f "%M" -o "$OUT/jm_rss" "$J" convert "$T/block_$N1.xyz" -r 0.025 $SPH -j 2 -q \
     -o "$T/block_1m.ply" 2>>"$OUT/peer.log" && jm_kb=$(tail -n 1 "$OUT/jm_rss")
-  echo "$PEER block_1000000.xyz -r 0.025 -s 0.0125 --threads 2   (under /usr/bin/time -f %M)" >>"$OUT/commands.sh"
-  echo "$J convert block_1000000.xyz -r 0.025 $SPH -j 2 -q -o block_1m.ply   (under /usr/bin/time -f %M)" >>"$OUT/commands.sh"
+  echo "$PEER block_$N1.xyz -r 0.025 -s 0.0125 --threads 2   (under /usr/bin/time -f %M)" >>"$OUT/commands.sh"
+  echo "$J convert block_$N1.xyz -r 0.025 $SPH -j 2 -q -o block_1m.ply   (under /usr/bin/time -f %M)" >>"$OUT/commands.sh"
   echo "== 1M max RSS: splashsurf ${peer_kb:-?} KiB, jetmesh convert ${jm_kb:-?} KiB"
 fi
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
@@ -67,9 +72,10 @@ elapsed=$(( $(date +%s) - started ))
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 if [ -n "$(git status --porcelain --untracked-files=no 2>/dev/null)" ]; then commit="$commit-dirty"; fi
 
-node - "$OUT" "$commit" "$elapsed" "$load_before" "$load_after" "${peer_kb:-}" "${jm_kb:-}" >"$MD.tmp" <<'EOF' || status=1
+node - "$OUT" "$commit" "$elapsed" "$load_before" "$load_after" "${peer_kb:-}" "${jm_kb:-}" "$N1" "$N8" "$N13" >"$MD.tmp" <<'EOF' || status=1
 const fs = require("fs");
-const [dir, commit, elapsed, loadBefore, loadAfter, peerKb, jmKb] = process.argv.slice(2);
+const [dir, commit, elapsed, loadBefore, loadAfter, peerKb, jmKb, n1s, n8s, n13s] = process.argv.slice(2);
+const N1 = Number(n1s), N8 = Number(n8s), N13 = Number(n13s);
 const load = (n) => { try { return JSON.parse(fs.readFileSync(`${dir}/${n}.json`, "utf8")); } catch (e) { return null; } };
 const S = load("scaling"), R = load("record");
 const out = [], p = (s = "") => out.push(s);
@@ -99,7 +105,7 @@ p();
 p("| threads | 1M total ms | 8M total ms | time ratio (target ≤ 5) | 1M lib peak MiB | 8M lib peak MiB | memory ratio (target ≤ 4) |");
 p("|--:|--:|--:|--:|--:|--:|--:|");
 for (const t of [1, 2]) {
-  const a = find(S, 1000000, t), b = find(S, 8000000, t);
+  const a = find(S, N1, t), b = find(S, N8, t);
   if (!a || !b) { p(`| ${t} | – | – | – | – | – | – |`); continue; }
   const rt = b.ms.total.median / a.ms.total.median, rm = b.lib_peak_bytes / a.lib_peak_bytes;
   p(`| ${t} | ${f(a.ms.total.median, 1)} | ${f(b.ms.total.median, 1)} | **${f(rt)}×** | ${mib(a.lib_peak_bytes)} | ${mib(b.lib_peak_bytes)} | **${f(rm)}×** |`);
@@ -109,7 +115,7 @@ p("Stages (medians, ms):");
 p();
 p("| block | threads | prepare | field | extract | attrs | vertices | triangles | RSS peak MiB |");
 p("|---|--:|--:|--:|--:|--:|--:|--:|--:|");
-for (const n of [1000000, 8000000]) for (const t of [1, 2]) {
+for (const n of [N1, N8]) for (const t of [1, 2]) {
   const c = find(S, n, t);
   if (c) p(`| ${n / 1e6}M | ${t} | ${f(c.ms.prepare.median, 1)} | ${f(c.ms.field.median, 1)} | ${f(c.ms.extract.median, 1)} | ` +
     `${f(c.ms.attributes.median, 1)} | ${c.vertices} | ${c.triangles} | ${mib(c.peak_rss_bytes)} |`);
@@ -117,7 +123,7 @@ for (const n of [1000000, 8000000]) for (const t of [1, 2]) {
 p();
 p("## 13.35M-particle block on these 2 cores");
 p();
-const r = find(R, 13350000, 2);
+const r = find(R, N13, 2);
 if (r) {
   p(`${r.particles} particles, 2 threads: **${f(r.ms.total.median / 1e3, 2)} s** (median of ${r.repetitions}; prepare ` +
     `${f(r.ms.prepare.median, 1)} ms, field ${f(r.ms.field.median, 1)} ms, extract ${f(r.ms.extract.median, 1)} ms, ` +
