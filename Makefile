@@ -47,7 +47,7 @@ CLI   = $(BUILD)/jetmesh
 
 .SECONDARY:
 
-.PHONY: all deps deps-build check kill-soak pictures test-unit test-scripts demo bench fuzz fuzz-build install clean asan
+.PHONY: all deps deps-build check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
@@ -121,6 +121,12 @@ demo: deps
 bench: deps-build
 	@$(MAKE) --no-print-directory all
 	@scripts/bench.sh $(BUILD)
+
+# Opt-in, minutes and about 2 GB: the 8M block against the 1M block and a
+# 13.35M block -> BENCHMARKS_LARGE.md.
+bench-large: deps-build
+	@$(MAKE) --no-print-directory all
+	@scripts/bench_large.sh $(BUILD)
 
 fuzz: deps
 	@scripts/fuzz.sh

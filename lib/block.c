@@ -358,11 +358,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     size_t fs;
     const float *fv;
     const uint8_t *span = NULL;
-    /* a block about full of particles at the rest spacing 2r (0.85 of
-     * (B h / 2r)^3 or more) is mostly inside the fluid */
-    const double fill = (double)inner * 8.0 * c->r * c->r * c->r;
-    const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    if (c->cull && fill >= 0.85 * vol) {
+    if (c->cull && jm_sph_block_full(c, inner, lo, hi)) {
         /* the isotropic SPH field, a block inside the fluid: partial sums
          * prove most nodes inside; only the nodes next to the others are
          * sampled (cull.c) */

@@ -3,11 +3,23 @@
 #define JETMESH_CULL_H
 #include "field.h"
 
+/* A block about full of particles at the rest spacing 2r (inner of them
+ * within the box [lo, hi]: 0.85 of (box volume / (2r)^3) or more) is mostly
+ * inside the fluid: block.c proves its nodes inside with partial sums, and
+ * jm_sph_block_outside does not try its proof there. Speed only. */
+static inline int jm_sph_block_full(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
+{
+    const double fill = (double)inner * 8.0 * c->r * c->r * c->r;
+    const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    return fill >= 0.85 * vol;
+}
+
 /* 1 when every lattice node of the box [lo, hi] (the block's first and last
  * node coordinates) provably samples at or below the threshold under the
  * isotropic SPH field (splat.c), so the block holds no inside node and no
  * crossing; 0 when that cannot be proven. *inner gets the number of
- * particles (not isolated) within the box. The proof is at the top of
+ * particles (not isolated) within the box; a full block
+ * (jm_sph_block_full) returns 0 at once. The proof is at the top of
  * cull.c. */
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
                          const float hi[3], size_t *inner);

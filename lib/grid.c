@@ -119,40 +119,70 @@ static void sph_cell(void *arg, size_t ci, int worker)
     for (int k = 0; k < nr; k++) m += r[k][1] - r[k][0];
     size_t cap = (m + 7) & ~(size_t)7;
     if (cap > job->soa_cap[worker]) {
-        float *b = jm_realloc(job->mem, job->soa[worker], 3 * job->soa_cap[worker] * sizeof *b, 3 * cap * sizeof *b);
+        float *b = jm_realloc(job->mem, job->soa[worker], 6 * job->soa_cap[worker] * sizeof *b, 6 * cap * sizeof *b);
         if (!b) { job->failed = 1; return; }
         job->soa[worker] = b;
         job->soa_cap[worker] = cap;
     }
-    float *xs = job->soa[worker], *ys = xs + cap, *zs = ys + cap;
+    /* each group of 8 neighbours twice in a row: 16 lanes for two particles */
+    float *xs = job->soa[worker], *ys = xs + 2 * cap, *zs = ys + 2 * cap;
     size_t t = 0;
     for (int k = 0; k < nr; k++)
         for (uint32_t j = r[k][0]; j < r[k][1]; j++, t++) {
-            xs[t] = g->pos[3 * (size_t)j];
-            ys[t] = g->pos[3 * (size_t)j + 1];
-            zs[t] = g->pos[3 * (size_t)j + 2];
+            size_t at = 16 * (t >> 3) + (t & 7);
+            xs[at] = xs[at + 8] = g->pos[3 * (size_t)j];
+            ys[at] = ys[at + 8] = g->pos[3 * (size_t)j + 1];
+            zs[at] = zs[at + 8] = g->pos[3 * (size_t)j + 2];
         }
-    for (; t < cap; t++) xs[t] = ys[t] = zs[t] = 1e30f;
-    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
-        const float px = g->pos[3 * (size_t)i], py = g->pos[3 * (size_t)i + 1], pz = g->pos[3 * (size_t)i + 2];
-        float lane[8] = {0};
-        int near[8] = {0};
-        for (size_t b = 0; b < cap; b += 8)
-            for (int l = 0; l < 8; l++) {
-                float dx = xs[b + l] - px, dy = ys[b + l] - py, dz = zs[b + l] - pz;
-                float d2 = dx * dx + dy * dy + dz * dz;
-                lane[l] += jm_cubic_w(sqrtf(d2) * inv); /* 0 beyond the support */
-                near[l] += d2 < sup2;
+    for (; t < cap; t++) {
+        size_t at = 16 * (t >> 3) + (t & 7);
+        xs[at] = xs[at + 8] = ys[at] = ys[at + 8] = zs[at] = zs[at + 8] = 1e30f;
+    }
+    const uint32_t end = g->cell_start[ci + 1];
+    for (uint32_t i = g->cell_start[ci]; i < end; i += 2) {
+        /* particles i and i + 1 at once, lanes 0-7 and 8-15 (one 16-lane
+         * register where the CPU has them), or i alone: each lane gets the
+         * same operations in the same order either way, so the same sums */
+        const int two = i + 1 < end;
+        float lane[16] = {0};
+        int near[16] = {0};
+        if (two) {
+            float px[16], py[16], pz[16];
+            for (int l = 0; l < 16; l++) {
+                const float *q = GP(g, i + (uint32_t)(l >> 3));
+                px[l] = q[0];
+                py[l] = q[1];
+                pz[l] = q[2];
             }
-        float sum = 0.0f;
-        int count = 0;
-        for (int l = 0; l < 8; l++) {
-            sum += lane[l];
-            count += near[l];
+            for (size_t b = 0; b < cap; b += 8)
+                for (int l = 0; l < 16; l++) {
+                    float dx = xs[2 * b + l] - px[l], dy = ys[2 * b + l] - py[l], dz = zs[2 * b + l] - pz[l];
+                    float d2 = dx * dx + dy * dy + dz * dz;
+                    lane[l] += jm_cubic_w(sqrtf(d2) * inv); /* 0 beyond the support */
+                    near[l] += d2 < sup2;
+                }
+        } else {
+            const float px = g->pos[3 * (size_t)i], py = g->pos[3 * (size_t)i + 1], pz = g->pos[3 * (size_t)i + 2];
+            for (size_t b = 0; b < cap; b += 8)
+                for (int l = 0; l < 8; l++) {
+                    float dx = xs[2 * b + l] - px, dy = ys[2 * b + l] - py, dz = zs[2 * b + l] - pz;
+                    float d2 = dx * dx + dy * dy + dz * dz;
+                    lane[l] += jm_cubic_w(sqrtf(d2) * inv);
+                    near[l] += d2 < sup2;
+                }
         }
-        g->weight[i] = 1.0f / sum; /* sum >= w(0) = 1 */
-        /* count includes the particle itself (and any exact duplicates) */
-        g->isolated[i] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, i, job->range, job->iso2);
+        for (int k = 0; k <= two; k++) {
+            const uint32_t pi = i + (uint32_t)k;
+            float sum = 0.0f;
+            int count = 0;
+            for (int l = 0; l < 8; l++) {
+                sum += lane[8 * k + l];
+                count += near[8 * k + l];
+            }
+            g->weight[pi] = 1.0f / sum; /* sum >= w(0) = 1 */
+            /* count includes the particle itself (and any exact duplicates) */
+            g->isolated[pi] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, pi, job->range, job->iso2);
+        }
     }
 }
 
@@ -208,7 +238,6 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
 {
     size_t n = g->n;
     jm_free(mem, g->pos, 3 * n * sizeof(float));
-    jm_free(mem, g->order, n * sizeof(uint32_t));
     jm_free(mem, g->weight, n * sizeof(float));
     jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
     jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
@@ -219,6 +248,7 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     jm_free(mem, g->isolated, n);
     jm_aniso_free(g, mem);
     if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
+    jm_free(mem, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense);
     memset(g, 0, sizeof *g);
 }
 
@@ -272,7 +302,29 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         jm_free(mem, tmp, n * sizeof *tmp);
     }
 
-    jm_status st = jm_hashmap_init(&g->cells, mem, n / 2 + 16);
+    /* cells: where the particles' box holds no more cells than there are
+     * particles (bulk fluid: 8 particles a cell at rest), a dense index over
+     * that box (at most 4 bytes a particle, one load a look-up); else a
+     * hash map. Either numbers the cells alike, in order of first
+     * appearance, and answers every look-up alike. */
+    jm_status st = JM_OK;
+    double box = 1.0;
+    int64_t clo[3] = {0, 0, 0};
+    for (int a = 0; a < 3 && n; a++) {
+        clo[a] = (int64_t)floorf(lo[a] * g->inv_cell);
+        box *= (double)((int64_t)floorf(hi[a] * g->inv_cell) - clo[a] + 1);
+    }
+    if (n && box <= (double)n + 64.0) {
+        for (int a = 0; a < 3; a++) {
+            g->dense_lo[a] = clo[a];
+            g->dense_n[a] = (int64_t)floorf(hi[a] * g->inv_cell) - clo[a] + 1;
+        }
+        g->dense = jm_alloc(mem, (size_t)box * sizeof *g->dense);
+        if (!g->dense) st = JM_E_OUT_OF_MEMORY;
+        else memset(g->dense, 0xff, (size_t)box * sizeof *g->dense);
+    } else {
+        st = jm_hashmap_init(&g->cells, mem, n / 2 + 16);
+    }
     uint32_t *pcell = jm_alloc(mem, (n ? n : 1) * sizeof *pcell);
     uint32_t *count = NULL;
     size_t count_cap = 0;
@@ -285,17 +337,25 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         int64_t cx = (int64_t)floorf(p[0] * g->inv_cell) - g->origin[0];
         int64_t cy = (int64_t)floorf(p[1] * g->inv_cell) - g->origin[1];
         int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
-        if (g->cells.count * 2 + 2 > g->cells.cap) {
-            /* rehash into a bigger table */
-            jm_hashmap big;
-            st = jm_hashmap_init(&big, mem, g->cells.cap);
-            if (st != JM_OK) goto fail;
-            for (size_t s = 0; s < g->cells.cap; s++)
-                if (g->cells.keys[s] != JM_HASH_EMPTY) *jm_hashmap_upsert(&big, g->cells.keys[s]) = g->cells.vals[s];
-            jm_hashmap_free(&g->cells, mem);
-            g->cells = big;
+        uint32_t *v;
+        if (g->dense) {
+            /* within the box: floorf is monotone and lo, hi bound p */
+            int64_t d[3] = {cx + g->origin[0] - g->dense_lo[0], cy + g->origin[1] - g->dense_lo[1],
+                            cz + g->origin[2] - g->dense_lo[2]};
+            v = &g->dense[((size_t)d[2] * (size_t)g->dense_n[1] + (size_t)d[1]) * (size_t)g->dense_n[0] + (size_t)d[0]];
+        } else {
+            if (g->cells.count * 2 + 2 > g->cells.cap) {
+                /* rehash into a bigger table */
+                jm_hashmap big;
+                st = jm_hashmap_init(&big, mem, g->cells.cap);
+                if (st != JM_OK) goto fail;
+                for (size_t s = 0; s < g->cells.cap; s++)
+                    if (g->cells.keys[s] != JM_HASH_EMPTY) *jm_hashmap_upsert(&big, g->cells.keys[s]) = g->cells.vals[s];
+                jm_hashmap_free(&g->cells, mem);
+                g->cells = big;
+            }
+            v = jm_hashmap_upsert(&g->cells, jm_key3(cx, cy, cz));
         }
-        uint32_t *v = jm_hashmap_upsert(&g->cells, jm_key3(cx, cy, cz));
         if (*v == UINT32_MAX) {
             if (ncells == count_cap) {
                 size_t nc = count_cap ? count_cap * 2 : 256;
@@ -317,9 +377,8 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     g->cell_start = jm_alloc(mem, (ncells + 1) * sizeof *g->cell_start);
     g->cell_coord = jm_alloc(mem, (ncells ? 3 * ncells : 1) * sizeof *g->cell_coord);
     g->pos = jm_alloc(mem, (n ? 3 * n : 1) * sizeof(float));
-    g->order = jm_alloc(mem, (n ? n : 1) * sizeof(uint32_t));
     g->isolated = jm_calloc(mem, n ? n : 1, 1);
-    if (!g->cell_start || !g->cell_coord || !g->pos || !g->order || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+    if (!g->cell_start || !g->cell_coord || !g->pos || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     uint32_t acc = 0;
     for (size_t ci = 0; ci < ncells; ci++) {
         g->cell_start[ci] = acc;
@@ -331,7 +390,6 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     for (size_t k = 0; k < n; k++) {
         uint32_t dst = count[4 * pcell[k]]++;
         load_units(GP(g, dst), base + (size_t)order[k] * stride, c->unit_in);
-        g->order[dst] = order[k];
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);
     count = NULL;
@@ -376,7 +434,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             goto fail;
         }
         jm_pool_run(pool, ncells, 16, sph_cell, &job);
-        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 3 * job.soa_cap[w] * sizeof(float));
+        for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 6 * job.soa_cap[w] * sizeof(float));
         jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
         jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto fail; }

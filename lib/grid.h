@@ -10,6 +10,15 @@ void jm_grid_free(jm_grid *g, jm_mem *mem);
 /* Cell index of absolute cell coordinates, or UINT32_MAX if empty/out of range. */
 static inline uint32_t jm_grid_cell(const jm_grid *g, int64_t x, int64_t y, int64_t z)
 {
+    if (g->dense) {
+        x -= g->dense_lo[0];
+        y -= g->dense_lo[1];
+        z -= g->dense_lo[2];
+        if ((uint64_t)x >= (uint64_t)g->dense_n[0] || (uint64_t)y >= (uint64_t)g->dense_n[1] ||
+            (uint64_t)z >= (uint64_t)g->dense_n[2])
+            return UINT32_MAX;
+        return g->dense[((size_t)z * (size_t)g->dense_n[1] + (size_t)y) * (size_t)g->dense_n[0] + (size_t)x];
+    }
     x -= g->origin[0];
     y -= g->origin[1];
     z -= g->origin[2];

@@ -146,7 +146,6 @@ static inline uint64_t jm_key3(int64_t x, int64_t y, int64_t z)
 typedef struct jm_grid {
     size_t n;             /* particles */
     float *pos;           /* 3n, sorted by cell */
-    uint32_t *order;      /* sorted index -> input index */
     float *weight;        /* sph: V_j per sorted particle */
     uint32_t *nb_start;   /* metasphere: n+1 offsets into nb */
     uint32_t *nb;         /* metasphere: neighbour sorted indices within link */
@@ -169,6 +168,11 @@ typedef struct jm_grid {
     float an_reach;       /* largest |centre - x| + ellipsoid box half-side */
     size_t refused_bytes; /* after a JM_E_TOO_LARGE of jm_grid_build: the
                              memory it would have needed */
+    uint32_t *dense;      /* when the particles' box of cells is no bigger
+                             than n: its cell indices (UINT32_MAX: empty),
+                             x fastest, instead of the map cells */
+    int64_t dense_lo[3];  /* absolute coordinates of its first cell */
+    int64_t dense_n[3];   /* its cells per axis */
 } jm_grid;
 
 

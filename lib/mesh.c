@@ -345,7 +345,11 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
     const double per_block = (double)(c->block + 1) * (c->block + 1) * (c->block + 1);
     if (bound * per_block > JM_MAX_SAMPLES || (c->max_bytes && *out_estimate > c->max_bytes)) return JM_E_TOO_LARGE;
     jm_hashmap set;
-    jm_status st = jm_hashmap_init(&set, mem, g->ncells * 2 + 16);
+    /* sized for at most the bound (bulk fluid: far fewer blocks than cells;
+     * the keys are sorted below, so the size changes nothing else) */
+    double expect = (double)g->ncells * 2 + 16;
+    if (bound + 16 < expect) expect = bound + 16;
+    jm_status st = jm_hashmap_init(&set, mem, (size_t)expect);
     if (st != JM_OK) return st;
     for (size_t ci = 0; ci < g->ncells; ci++) {
         int any = 0;
@@ -546,6 +550,10 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     /* stitch: pending references to vertices owned by later blocks */
     jm_pool_run(ctx->pool, job.npend, 4096, resolve_task, &job);
     if (job.failed) { s = JM_E_INTERNAL; goto out_job; }
+    for (size_t b = 0; b < bs.count; b++) { /* the owners' maps: done with */
+        jm_free(mem, job.bmap[b], job.nbmap[b] * 2 * sizeof(uint32_t));
+        job.bmap[b] = NULL;
+    }
     jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
     if (c->field == JM_FIELD_METASPHERE && (c->compensate || c->normals) &&
         !jm_meta_finish(&ctx->mem, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate, c->normals,
@@ -571,6 +579,13 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->nv = tv;
         ctx->ni = ti;
         jm_pool_run(ctx->pool, g.n_isolated, 64, template_task, &job);
+    }
+    if (!(c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f)) {
+        /* nothing below reads the particles (the post-processing would):
+         * their grid goes before the last stages take memory */
+        size_t iso = g.n_isolated;
+        jm_grid_free(&g, mem);
+        g.n_isolated = iso;
     }
     double tc0 = jm_now_ms();
     if (c->drop_cavities) {
