@@ -12,41 +12,9 @@
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
 #include "util/shared_data.h"
+#include "util/test_meshes.h"
 
-/* a copy of a mesh's arrays */
-typedef struct copy {
-    size_t nv, nt;
-    float *pos, *nrm, *uv;
-    uint32_t *idx;
-} copy;
-
-static void take(const jm_mesh *m, copy *c)
-{
-    c->nv = m->vertex_count;
-    c->nt = m->triangle_count;
-    c->pos = malloc(3 * c->nv * sizeof(float) + 1);
-    c->nrm = malloc(3 * c->nv * sizeof(float) + 1);
-    c->uv = malloc(2 * c->nv * sizeof(float) + 1);
-    c->idx = malloc(3 * c->nt * sizeof(uint32_t) + 1);
-    assert_non_null(c->pos);
-    assert_non_null(c->nrm);
-    assert_non_null(c->uv);
-    assert_non_null(c->idx);
-    memcpy(c->pos, m->positions, 3 * c->nv * sizeof(float));
-    if (m->normals) memcpy(c->nrm, m->normals, 3 * c->nv * sizeof(float));
-    if (m->uvs) memcpy(c->uv, m->uvs, 2 * c->nv * sizeof(float));
-    memcpy(c->idx, m->indices, 3 * c->nt * sizeof(uint32_t));
-}
-
-static void drop(copy *c)
-{
-    free(c->pos);
-    free(c->nrm);
-    free(c->uv);
-    free(c->idx);
-}
-
-static void mesh_with(const jm_params *base, int threads, int no_culling, const float *xyz, size_t count, copy *out)
+static void mesh_with(const jm_params *base, int threads, int no_culling, const float *xyz, size_t count, test_mesh *out)
 {
     jm_params p = *base;
     p.threads = threads;
@@ -56,29 +24,29 @@ static void mesh_with(const jm_params *base, int threads, int no_culling, const 
     jm_particles in = {xyz, count, 0, NULL};
     jm_mesh m;
     assert_int_equal(jm_mesh_particles(ctx, &in, &m, NULL), JM_OK);
-    take(&m, out);
+    assert_int_equal(test_mesh_copy(&m, out), 0);
     jm_context_free(ctx);
 }
 
 /* culled (1 and 2 threads) against every node sampled: the same bytes */
 static void same_bytes(const char *what, const jm_params *p, const float *xyz, size_t count)
 {
-    copy ref, got;
+    test_mesh ref, got;
     mesh_with(p, 1, 1, xyz, count, &ref);
-    assert_true(ref.nt > 0);
+    assert_true(ref.mesh.triangle_count > 0);
     for (int t = 1; t <= 2; t++) {
         mesh_with(p, t, 0, xyz, count, &got);
-        if (got.nv != ref.nv || got.nt != ref.nt)
-            fail_msg("%s (%d threads): %zu vertices %zu triangles culled, %zu %zu not", what, t, got.nv, got.nt, ref.nv,
-                     ref.nt);
-        assert_memory_equal(got.pos, ref.pos, 3 * ref.nv * sizeof(float));
-        assert_memory_equal(got.nrm, ref.nrm, 3 * ref.nv * sizeof(float));
-        assert_memory_equal(got.uv, ref.uv, 2 * ref.nv * sizeof(float));
-        assert_memory_equal(got.idx, ref.idx, 3 * ref.nt * sizeof(uint32_t));
-        drop(&got);
+        if (got.mesh.vertex_count != ref.mesh.vertex_count || got.mesh.triangle_count != ref.mesh.triangle_count)
+            fail_msg("%s (%d threads): %zu vertices %zu triangles culled, %zu %zu not", what, t, got.mesh.vertex_count, got.mesh.triangle_count, ref.mesh.vertex_count,
+                     ref.mesh.triangle_count);
+        assert_memory_equal(got.positions, ref.positions, 3 * ref.mesh.vertex_count * sizeof(float));
+        assert_memory_equal(got.normals, ref.normals, 3 * ref.mesh.vertex_count * sizeof(float));
+        assert_memory_equal(got.uvs, ref.uvs, 2 * ref.mesh.vertex_count * sizeof(float));
+        assert_memory_equal(got.indices, ref.indices, 3 * ref.mesh.triangle_count * sizeof(uint32_t));
+        test_mesh_free(&got);
     }
-    printf("%s: %zu triangles, the same bytes culled and not\n", what, ref.nt);
-    drop(&ref);
+    printf("%s: %zu triangles, the same bytes culled and not\n", what, ref.mesh.triangle_count);
+    test_mesh_free(&ref);
 }
 
 static void test_real_frames_same_bytes(void **state)

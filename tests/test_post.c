@@ -12,6 +12,7 @@
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
+#include "util/test_meshes.h"
 #include "util/shared_data.h"
 
 #define R 0.025f
@@ -62,41 +63,7 @@ static float *make_spray(size_t *n)
     return p;
 }
 
-/* A private copy of a mesh (the context owns the original). */
-typedef struct copy {
-    jm_mesh m;
-    float *pos, *nrm, *uv;
-    uint32_t *idx;
-} copy;
-
-static void copy_mesh(const jm_mesh *m, copy *c)
-{
-    size_t nv = m->vertex_count, ni = 3 * m->triangle_count;
-    c->pos = malloc(3 * nv * sizeof(float) + 1);
-    c->nrm = m->normals ? malloc(3 * nv * sizeof(float) + 1) : NULL;
-    c->uv = m->uvs ? malloc(2 * nv * sizeof(float) + 1) : NULL;
-    c->idx = malloc(ni * sizeof(uint32_t) + 1);
-    assert_true(c->pos && c->idx);
-    memcpy(c->pos, m->positions, 3 * nv * sizeof(float));
-    if (c->nrm) memcpy(c->nrm, m->normals, 3 * nv * sizeof(float));
-    if (c->uv) memcpy(c->uv, m->uvs, 2 * nv * sizeof(float));
-    memcpy(c->idx, m->indices, ni * sizeof(uint32_t));
-    c->m = *m;
-    c->m.positions = c->pos;
-    c->m.normals = c->nrm;
-    c->m.uvs = c->uv;
-    c->m.indices = c->idx;
-}
-
-static void free_copy(copy *c)
-{
-    free(c->pos);
-    free(c->nrm);
-    free(c->uv);
-    free(c->idx);
-}
-
-static void mesh_with(const float *xyz, size_t n, jm_params p, copy *out)
+static void mesh_with(const float *xyz, size_t n, jm_params p, test_mesh *out)
 {
     jm_context *ctx = NULL;
     assert_int_equal(jm_context_create(&p, &ctx), JM_OK);
@@ -108,7 +75,7 @@ static void mesh_with(const float *xyz, size_t n, jm_params p, copy *out)
         assert_true(st.ms_post > 0.0);
     else
         assert_true(st.ms_post == 0.0);
-    copy_mesh(&m, out);
+    assert_int_equal(test_mesh_copy(&m, out), 0);
     jm_context_free(ctx);
 }
 
@@ -168,18 +135,18 @@ static void test_ball_orange_peel(void **state)
     p.radius = R;
     p.field = JM_FIELD_SPH;
     p.method = JM_METHOD_MC;
-    copy raw, sm;
+    test_mesh raw, sm;
     mesh_with(xyz, n, p, &raw);
     p.smooth_iterations = 25;
     p.smooth_normal_iterations = 10;
     mesh_with(xyz, n, p, &sm);
     mc_report r0, r1;
-    assert_true(mc_check(&raw.m, &r0));
-    if (!mc_check(&sm.m, &r1)) fail_msg("smoothed ball: %s", r1.problem);
+    assert_true(mc_check(&raw.mesh, &r0));
+    if (!mc_check(&sm.mesh, &r1)) fail_msg("smoothed ball: %s", r1.problem);
     assert_int_equal(r1.normals_away, 0);
     double sd0, a0, sd1, a1;
-    sphere_stats(&raw.m, NULL, 0, &sd0, &a0);
-    sphere_stats(&sm.m, NULL, 0, &sd1, &a1);
+    sphere_stats(&raw.mesh, NULL, 0, &sd0, &a0);
+    sphere_stats(&sm.mesh, NULL, 0, &sd1, &a1);
     double dv = (r1.volume - r0.volume) / r0.volume;
     printf("ball of %zu particles: radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, volume %+.2f %%\n", n,
            sd0 / R, sd1 / R, a0, a1, 100 * dv);
@@ -187,10 +154,10 @@ static void test_ball_orange_peel(void **state)
     assert_true(a1 <= 10.0);
     assert_true(fabs(dv) <= 0.02);
     /* the same triangles: smoothing moves vertices only */
-    assert_int_equal(raw.m.triangle_count, sm.m.triangle_count);
-    assert_memory_equal(raw.idx, sm.idx, 3 * raw.m.triangle_count * sizeof(uint32_t));
-    free_copy(&raw);
-    free_copy(&sm);
+    assert_int_equal(raw.mesh.triangle_count, sm.mesh.triangle_count);
+    assert_memory_equal(raw.indices, sm.indices, 3 * raw.mesh.triangle_count * sizeof(uint32_t));
+    test_mesh_free(&raw);
+    test_mesh_free(&sm);
 
     /* the metasphere (marching tetrahedra) smooths too; at spacing 2r its
      * balls only touch, a porous sponge, so a denser ball (spacing 1.2r; its
@@ -205,19 +172,19 @@ static void test_ball_orange_peel(void **state)
     p.smooth_iterations = 25;
     p.smooth_normal_iterations = 10;
     mesh_with(xyz, n, p, &sm);
-    assert_true(mc_check(&raw.m, &r0));
-    if (!mc_check(&sm.m, &r1)) fail_msg("smoothed metasphere ball: %s", r1.problem);
+    assert_true(mc_check(&raw.mesh, &r0));
+    if (!mc_check(&sm.mesh, &r1)) fail_msg("smoothed metasphere ball: %s", r1.problem);
     size_t nc;
-    uint32_t *lab = components(&raw.m, &nc);
+    uint32_t *lab = components(&raw.mesh, &nc);
     double *v0 = calloc(nc, sizeof *v0), *v1 = calloc(nc, sizeof *v1);
     assert_true(v0 && v1);
-    component_volumes(&raw.m, lab, v0, nc);
-    component_volumes(&sm.m, lab, v1, nc);
+    component_volumes(&raw.mesh, lab, v0, nc);
+    component_volumes(&sm.mesh, lab, v1, nc);
     uint32_t outer = 0;
     for (size_t k = 1; k < nc; k++)
         if (v0[k] > v0[outer]) outer = (uint32_t)k;
-    sphere_stats(&raw.m, lab, outer, &sd0, &a0);
-    sphere_stats(&sm.m, lab, outer, &sd1, &a1);
+    sphere_stats(&raw.mesh, lab, outer, &sd0, &a0);
+    sphere_stats(&sm.mesh, lab, outer, &sd1, &a1);
     dv = (v1[outer] - v0[outer]) / v0[outer];
     printf("metasphere ball (outer surface of %zu pieces): radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, "
            "volume %+.2f %%\n", nc, sd0 / R, sd1 / R, a0, a1, 100 * dv);
@@ -227,8 +194,8 @@ static void test_ball_orange_peel(void **state)
     free(v0);
     free(v1);
     free(lab);
-    free_copy(&raw);
-    free_copy(&sm);
+    test_mesh_free(&raw);
+    test_mesh_free(&sm);
     free(xyz);
 }
 
@@ -285,22 +252,22 @@ static void test_spray_kept(void **state)
             p.field = (jm_field)f;
             p.method = f == JM_FIELD_SPH ? JM_METHOD_MC : JM_METHOD_MT;
             p.no_templates = tpl;
-            copy raw, sm;
+            test_mesh raw, sm;
             mesh_with(xyz, n, p, &raw);
             p.smooth_iterations = 25;
             mesh_with(xyz, n, p, &sm);
             mc_report r0, r1;
-            assert_true(mc_check(&raw.m, &r0));
-            if (!mc_check(&sm.m, &r1)) fail_msg("smoothed spray: %s", r1.problem);
+            assert_true(mc_check(&raw.mesh, &r0));
+            if (!mc_check(&sm.mesh, &r1)) fail_msg("smoothed spray: %s", r1.problem);
             assert_true(r0.components >= 64);
             assert_int_equal(r1.components, r0.components);
             size_t nc;
-            uint32_t *lab = components(&raw.m, &nc);
+            uint32_t *lab = components(&raw.mesh, &nc);
             assert_int_equal(nc, r0.components);
             double v0[512], v1[512], worst = 1e9;
             assert_true(nc <= 512);
-            component_volumes(&raw.m, lab, v0, nc);
-            component_volumes(&sm.m, lab, v1, nc);
+            component_volumes(&raw.mesh, lab, v0, nc);
+            component_volumes(&sm.mesh, lab, v1, nc);
             for (size_t k = 0; k < nc; k++) {
                 if (v0[k] <= 0) continue; /* a void inside a cluster */
                 double q = v1[k] / v0[k];
@@ -310,8 +277,8 @@ static void test_spray_kept(void **state)
             printf("spray (field %d, templates %s): %zu pieces, least volume kept %.1f %%\n", f, tpl ? "off" : "on",
                    nc, 100 * worst);
             free(lab);
-            free_copy(&raw);
-            free_copy(&sm);
+            test_mesh_free(&raw);
+            test_mesh_free(&sm);
         }
     free(xyz);
 }
@@ -478,20 +445,20 @@ static int read_frame(const char *rel, jmf_frame *fr)
 
 /* normals: also check that almost every normal faces the same side as its
  * faces (not for the metasphere, whose necks have creases) */
-static void check_simplified(const char *what, const copy *raw, const copy *sim, double max_frac, int normals)
+static void check_simplified(const char *what, const test_mesh *raw, const test_mesh *sim, double max_frac, int normals)
 {
     mc_report r0, r1;
-    assert_true(mc_check(&raw->m, &r0));
-    if (!mc_check(&sim->m, &r1)) fail_msg("%s simplified: %s", what, r1.problem);
-    double frac = (double)sim->m.triangle_count / (double)raw->m.triangle_count;
-    double d = hausdorff(&raw->m, &sim->m, 1.0 * R);
+    assert_true(mc_check(&raw->mesh, &r0));
+    if (!mc_check(&sim->mesh, &r1)) fail_msg("%s simplified: %s", what, r1.problem);
+    double frac = (double)sim->mesh.triangle_count / (double)raw->mesh.triangle_count;
+    double d = hausdorff(&raw->mesh, &sim->mesh, 1.0 * R);
     printf("%s: %zu -> %zu triangles (%.1f %%), max distance %.3f r, volume %+.2f %%, normals away from their "
            "faces %zu -> %zu\n",
-           what, raw->m.triangle_count, sim->m.triangle_count, 100 * frac, d / R, 100 * (r1.volume / r0.volume - 1),
+           what, raw->mesh.triangle_count, sim->mesh.triangle_count, 100 * frac, d / R, 100 * (r1.volume / r0.volume - 1),
            r0.normals_away, r1.normals_away);
     if (normals) {
-        assert_true(r0.normals_away * 1000 < raw->m.vertex_count);
-        assert_true(r1.normals_away * 1000 < sim->m.vertex_count);
+        assert_true(r0.normals_away * 1000 < raw->mesh.vertex_count);
+        assert_true(r1.normals_away * 1000 < sim->mesh.vertex_count);
     }
     assert_true(frac <= max_frac);
     assert_true(d <= 0.25 * R);
@@ -510,13 +477,13 @@ static void test_bunny_simplified(void **state)
     p.radius = R;
     p.field = JM_FIELD_SPH;
     p.method = JM_METHOD_MC;
-    copy raw, sim;
+    test_mesh raw, sim;
     mesh_with(fr.xyz, fr.count, p, &raw);
     p.simplify_error = 0.1f;
     mesh_with(fr.xyz, fr.count, p, &sim);
     check_simplified("bunny --simplify 0.1", &raw, &sim, 0.30, 1);
-    free_copy(&sim);
-    free_copy(&raw);
+    test_mesh_free(&sim);
+    test_mesh_free(&raw);
 
     /* smoothed, then simplified: compared with the smoothed mesh */
     p.simplify_error = 0.0f;
@@ -526,8 +493,8 @@ static void test_bunny_simplified(void **state)
     p.simplify_error = 0.1f;
     mesh_with(fr.xyz, fr.count, p, &sim);
     check_simplified("bunny --smooth 25 --simplify 0.1", &raw, &sim, 0.30, 1);
-    free_copy(&sim);
-    free_copy(&raw);
+    test_mesh_free(&sim);
+    test_mesh_free(&raw);
     jmf_frame_free(&fr);
 }
 
@@ -541,14 +508,14 @@ static void test_spray_simplified(void **state)
         jm_params p = {0};
         p.radius = R;
         p.field = (jm_field)f;
-        copy raw, sim;
+        test_mesh raw, sim;
         mesh_with(xyz, n, p, &raw);
         p.simplify_error = 0.1f;
         mesh_with(xyz, n, p, &sim);
         check_simplified(f == JM_FIELD_SPH ? "spray sph mt --simplify 0.1" : "spray metasphere --simplify 0.1", &raw,
                          &sim, 0.6, f == JM_FIELD_SPH);
-        free_copy(&sim);
-        free_copy(&raw);
+        test_mesh_free(&sim);
+        test_mesh_free(&raw);
     }
     free(xyz);
 }
@@ -561,7 +528,7 @@ static void test_threads_same_bytes(void **state)
     size_t n;
     float *xyz = make_ball(2.0f, &n);
     for (int f = JM_FIELD_METASPHERE; f <= JM_FIELD_SPH; f++) {
-        copy one, many;
+        test_mesh one, many;
         jm_params p = {0};
         p.radius = R;
         p.field = (jm_field)f;
@@ -573,14 +540,14 @@ static void test_threads_same_bytes(void **state)
         mesh_with(xyz, n, p, &one);
         p.threads = 3;
         mesh_with(xyz, n, p, &many);
-        assert_int_equal(one.m.vertex_count, many.m.vertex_count);
-        assert_int_equal(one.m.triangle_count, many.m.triangle_count);
-        assert_memory_equal(one.pos, many.pos, 3 * one.m.vertex_count * sizeof(float));
-        assert_memory_equal(one.nrm, many.nrm, 3 * one.m.vertex_count * sizeof(float));
-        assert_memory_equal(one.uv, many.uv, 2 * one.m.vertex_count * sizeof(float));
-        assert_memory_equal(one.idx, many.idx, 3 * one.m.triangle_count * sizeof(uint32_t));
-        free_copy(&one);
-        free_copy(&many);
+        assert_int_equal(one.mesh.vertex_count, many.mesh.vertex_count);
+        assert_int_equal(one.mesh.triangle_count, many.mesh.triangle_count);
+        assert_memory_equal(one.positions, many.positions, 3 * one.mesh.vertex_count * sizeof(float));
+        assert_memory_equal(one.normals, many.normals, 3 * one.mesh.vertex_count * sizeof(float));
+        assert_memory_equal(one.uvs, many.uvs, 2 * one.mesh.vertex_count * sizeof(float));
+        assert_memory_equal(one.indices, many.indices, 3 * one.mesh.triangle_count * sizeof(uint32_t));
+        test_mesh_free(&one);
+        test_mesh_free(&many);
     }
     free(xyz);
 }
@@ -596,18 +563,18 @@ static void test_uvs_follow(void **state)
     p.field = JM_FIELD_SPH;
     p.smooth_iterations = 10;
     p.smooth_normal_iterations = 3;
-    copy c;
+    test_mesh c;
     mesh_with(xyz, n, p, &c);
     float s = 1.0f / (16 * R);
-    for (size_t v = 0; v < c.m.vertex_count; v++) {
-        const float *q = &c.pos[3 * v], *nn = &c.nrm[3 * v];
+    for (size_t v = 0; v < c.mesh.vertex_count; v++) {
+        const float *q = &c.positions[3 * v], *nn = &c.normals[3 * v];
         float ax = fabsf(nn[0]), ay = fabsf(nn[1]), az = fabsf(nn[2]);
         int axis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
         int u = axis == 0 ? 1 : 0, w = axis == 2 ? 1 : 2;
-        assert_true(c.uv[2 * v] == q[u] * s && c.uv[2 * v + 1] == q[w] * s);
+        assert_true(c.uvs[2 * v] == q[u] * s && c.uvs[2 * v + 1] == q[w] * s);
         assert_true(fabsf(nn[0] * nn[0] + nn[1] * nn[1] + nn[2] * nn[2] - 1.0f) < 1e-4f);
     }
-    free_copy(&c);
+    test_mesh_free(&c);
     free(xyz);
 }
 

@@ -12,6 +12,7 @@
 
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
+#include "util/test_meshes.h"
 
 /* A small frame in units of the radius, every coordinate in [3, 10] (so no
  * vertex comes near 0, where floats turn subnormal at tiny scales): a
@@ -54,39 +55,6 @@ static const variant variants[] = {
     {"sph anisotropic", JM_FIELD_SPH, JM_METHOD_MC, 1, 0, 0, 0.0f},
 };
 
-/* a copy of a mesh's arrays */
-typedef struct copy {
-    size_t nv, nt;
-    float *pos, *nrm, *uv;
-    uint32_t *idx;
-} copy;
-
-static copy take(const jm_mesh *m)
-{
-    copy c = {m->vertex_count, m->triangle_count, NULL, NULL, NULL, NULL};
-    c.pos = malloc(3 * c.nv * sizeof(float) + 1);
-    c.nrm = malloc(3 * c.nv * sizeof(float) + 1);
-    c.uv = malloc(2 * c.nv * sizeof(float) + 1);
-    c.idx = malloc(3 * c.nt * sizeof(uint32_t) + 1);
-    assert_non_null(c.pos);
-    assert_non_null(c.nrm);
-    assert_non_null(c.uv);
-    assert_non_null(c.idx);
-    memcpy(c.pos, m->positions, 3 * c.nv * sizeof(float));
-    memcpy(c.nrm, m->normals, 3 * c.nv * sizeof(float));
-    memcpy(c.uv, m->uvs, 2 * c.nv * sizeof(float));
-    memcpy(c.idx, m->indices, 3 * c.nt * sizeof(uint32_t));
-    return c;
-}
-
-static void drop(copy *c)
-{
-    free(c->pos);
-    free(c->nrm);
-    free(c->uv);
-    free(c->idx);
-}
-
 static jm_status mesh_at(const variant *v, float radius, float uv_scale, const float *xyz, size_t n, jm_mesh *m,
                          jm_context **ctx)
 {
@@ -121,29 +89,30 @@ static void test_power_of_two_scales(void **state)
             jm_mesh m;
             assert_int_equal(mesh_at(&variants[v], r0, uvs ? 2.5f : 0.0f, base, NPART, &m, &c0), JM_OK);
             assert_true(m.triangle_count > 100);
-            copy ref = take(&m);
+            test_mesh ref;
+            assert_int_equal(test_mesh_copy(&m, &ref), 0);
             jm_context_free(c0);
             for (size_t s = 0; s < sizeof ks / sizeof ks[0]; s++) {
                 const int k = ks[s];
                 for (int i = 0; i < 3 * NPART; i++) xyz[i] = ldexpf(base[i], k);
                 jm_context *ctx = NULL;
                 jm_status st = mesh_at(&variants[v], ldexpf(r0, k), uvs ? ldexpf(2.5f, k) : 0.0f, xyz, NPART, &m, &ctx);
-                if (st != JM_OK || m.vertex_count != ref.nv || m.triangle_count != ref.nt)
+                if (st != JM_OK || m.vertex_count != ref.mesh.vertex_count || m.triangle_count != ref.mesh.triangle_count)
                     fail_msg("%s at 2^%d: status %d, %zu vertices, %zu triangles (at r = %g: %zu, %zu)",
-                             variants[v].name, k, (int)st, m.vertex_count, m.triangle_count, (double)r0, ref.nv,
-                             ref.nt);
+                             variants[v].name, k, (int)st, m.vertex_count, m.triangle_count, (double)r0, ref.mesh.vertex_count,
+                             ref.mesh.triangle_count);
                 size_t bad = 0;
-                for (size_t i = 0; i < 3 * ref.nv; i++) {
-                    bad += m.positions[i] != ldexpf(ref.pos[i], k);
-                    bad += memcmp(&m.normals[i], &ref.nrm[i], sizeof(float)) != 0;
+                for (size_t i = 0; i < 3 * ref.mesh.vertex_count; i++) {
+                    bad += m.positions[i] != ldexpf(ref.positions[i], k);
+                    bad += memcmp(&m.normals[i], &ref.normals[i], sizeof(float)) != 0;
                 }
-                for (size_t i = 0; i < 2 * ref.nv; i++) bad += memcmp(&m.uvs[i], &ref.uv[i], sizeof(float)) != 0;
-                bad += memcmp(m.indices, ref.idx, 3 * ref.nt * sizeof(uint32_t)) != 0;
+                for (size_t i = 0; i < 2 * ref.mesh.vertex_count; i++) bad += memcmp(&m.uvs[i], &ref.uvs[i], sizeof(float)) != 0;
+                bad += memcmp(m.indices, ref.indices, 3 * ref.mesh.triangle_count * sizeof(uint32_t)) != 0;
                 if (bad) fail_msg("%s at 2^%d: %zu values differ from the mesh at r = %g", variants[v].name, k, bad,
                                   (double)r0);
                 jm_context_free(ctx);
             }
-            drop(&ref);
+            test_mesh_free(&ref);
         }
     }
 }

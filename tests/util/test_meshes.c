@@ -196,3 +196,27 @@ void test_mesh_free(test_mesh *tm)
     free(tm->indices);
     memset(tm, 0, sizeof *tm);
 }
+
+int test_mesh_copy(const jm_mesh *m, test_mesh *out)
+{
+    const size_t nv = m->vertex_count, ni = 3 * m->triangle_count;
+    memset(out, 0, sizeof *out);
+    out->positions = malloc(3 * nv * sizeof(float) + 1);
+    out->normals = m->normals ? malloc(3 * nv * sizeof(float) + 1) : NULL;
+    out->uvs = m->uvs ? malloc(2 * nv * sizeof(float) + 1) : NULL;
+    out->indices = malloc(ni * sizeof(uint32_t) + 1);
+    if (!out->positions || !out->indices || (m->normals && !out->normals) || (m->uvs && !out->uvs)) {
+        test_mesh_free(out);
+        return -1;
+    }
+    memcpy(out->positions, m->positions, 3 * nv * sizeof(float));
+    if (m->normals) memcpy(out->normals, m->normals, 3 * nv * sizeof(float));
+    if (m->uvs) memcpy(out->uvs, m->uvs, 2 * nv * sizeof(float));
+    memcpy(out->indices, m->indices, ni * sizeof(uint32_t));
+    out->mesh = *m;
+    out->mesh.positions = out->positions;
+    out->mesh.normals = out->normals;
+    out->mesh.uvs = out->uvs;
+    out->mesh.indices = out->indices;
+    return 0;
+}

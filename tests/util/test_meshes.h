@@ -23,6 +23,13 @@ typedef struct test_mesh {
  */
 int test_mesh_make(const char *name, test_mesh *out);
 
+/**
+ * Copies a mesh (the library's, which its context owns and overwrites)
+ * into arrays of its own; normals and uvs only where m has them. Returns
+ * 0, or -1 for no memory.
+ */
+int test_mesh_copy(const jm_mesh *m, test_mesh *out);
+
 /** Frees the arrays and zeroes the mesh. */
 void test_mesh_free(test_mesh *tm);
 
