@@ -521,7 +521,7 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos, NULL, out->cand,
+    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos, out->cand,
                                out->nv)) {
         out->failed = 1;
         return;

@@ -79,8 +79,7 @@ typedef struct jm_config {
     /* metasphere vertices (metavertex.c) */
     float mv_tol;      /* a piece beating a vertex's value by more moves it (units of r) */
     float mv_tau;      /* normals blend the pieces within this of the maximum (units of r) */
-    float mv_reach2;   /* no piece exceeds threshold - mv_tau farther than this (squared) from its particle */
-    float mv_reach2s;  /* nor threshold - mv_tol farther than this */
+    float mv_reach2s;  /* no piece exceeds threshold - mv_tol farther than this (squared) from its particle */
     int mv_links;      /* 1: the pieces near a surface point are all of its winner's particle or its links */
     float mv_check;    /* metasphere: a vertex whose value is off by more is settled again (units of r) */
     float mv_inv_r;    /* metasphere: 1.0f / r, once (the pieces' evaluations) */

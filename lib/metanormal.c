@@ -230,20 +230,6 @@ __attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3]
 }
 #endif
 
-/* the parts [lo, hi] (per axis) holding the cubes that meet the box
- * [blo, bhi] (nodes x0 + i h); 0 if none */
-static int part_span(const float x0[3], int B, double inv_h, const float blo[3], const float bhi[3], int lo[3],
-                     int hi[3])
-{
-    for (int a = 0; a < 3; a++) {
-        double f0 = ((double)blo[a] - (double)x0[a]) * inv_h, f1 = ((double)bhi[a] - (double)x0[a]) * inv_h;
-        if (f1 < 0.0 || f0 >= (double)B) return 0;
-        int c0 = f0 < 0.0 ? 0 : (int)f0, c1 = f1 >= (double)B ? B - 1 : (int)f1;
-        lo[a] = c0 / JM_PROBE_PART;
-        hi[a] = c1 / JM_PROBE_PART;
-    }
-    return 1;
-}
 
 int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
                     const float *x, const float *y, const float *z, const float *pos, float *nrm, size_t nv)
@@ -281,7 +267,7 @@ int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, j
             if (g->isolated[p]) continue;
             int lo[3], hi[3];
             float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
-            if (part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
+            if (jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
 #ifdef HAVE_AVX2_NORMALS
                 if (wide)
                     ball8(&P, lo, hi, q);
@@ -302,7 +288,7 @@ int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, j
                     l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rb;
                     h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rb;
                 }
-                if (!part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
+                if (!jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
 #ifdef HAVE_AVX2_NORMALS
                 if (wide)
                     link8(&P, lo, hi, q, u, u[3], rb2);

@@ -265,27 +265,6 @@ static void wide_choose(void)
 }
 #endif
 
-/* the parts [lo, hi] (per axis) holding the cubes that meet the box
- * [blo, bhi] (nodes x0 + i h); 0 if none. The boxes are wider than the
- * pieces by a thousandth of r, far more than the rounding here (doubles). */
-static inline int dfloor(double x)
-{
-    int t = (int)x;
-    return t - (x < (double)t);
-}
-static int part_span(const float x0[3], int B, double inv_h, const float blo[3], const float bhi[3], int lo[3],
-                     int hi[3])
-{
-    for (int a = 0; a < 3; a++) {
-        double f0 = ((double)blo[a] - (double)x0[a]) * inv_h, f1 = ((double)bhi[a] - (double)x0[a]) * inv_h;
-        if (f1 < 0.0 || f0 >= (double)B) return 0;
-        /* the cubes holding the box's ends, and all between */
-        int c0 = f0 < 0.0 ? 0 : dfloor(f0), c1 = f1 >= (double)B ? B - 1 : dfloor(f1);
-        lo[a] = c0 / PART;
-        hi[a] = c1 / PART;
-    }
-    return 1;
-}
 
 /* node and direction of a vertex slot, and its edge a + t ab */
 static void edge_of(uint32_t slot, size_t sn, const float *x, const float *y, const float *z, int ijk[3], float a[3],
@@ -305,8 +284,7 @@ static void edge_of(uint32_t slot, size_t sn, const float *x, const float *y, co
 }
 
 int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, int B, const float *x,
-                  const float *y, const float *z, const float *f, float *pos, float *nrm, const uint32_t *cand,
-                  size_t nv)
+                  const float *y, const float *z, const float *f, float *pos, const uint32_t *cand, size_t nv)
 {
     if (!nv) return 1;
     const int np = jm_probe_parts(B);
@@ -371,7 +349,7 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
             if (g->isolated[p]) continue;
             int lo[3], hi[3];
             float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
-            if (part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
+            if (jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
 #ifdef HAVE_AVX2_PROBE
                 if (wide)
                     splat_ball8(&R, ps, np, lo, hi, q, inv_r);
@@ -394,7 +372,7 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
                     l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rr;
                     h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rr;
                 }
-                if (!part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
+                if (!jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
 #ifdef HAVE_AVX2_PROBE
                 if (wide)
                     splat_link8(&R, ps, np, lo, hi, q, u, u[3], rr * rr, inv_r);
@@ -415,11 +393,10 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
         const float fa = f[((size_t)ijk[2] * sn + (size_t)ijk[1]) * sn + (size_t)ijk[0]] - thr;
         /* a piece on the surface at the root: near_scan starts there */
         const uint32_t win = cv[0] != UINT32_MAX ? cv[0] : cv[1];
-        float *pv = &pos[3 * (size_t)v], *nv3 = nrm ? &nrm[3 * (size_t)v] : NULL;
-        float tt = jm_meta_settle(g, c, hood, cv, win, a, ab, fa, pr->t[v], nv3);
+        float *pv = &pos[3 * (size_t)v];
+        float tt = jm_meta_settle(g, c, hood, cv, win, a, ab, fa, pr->t[v]);
         float tc = tt < T_MIN ? T_MIN : (tt > 1.0f - T_MIN ? 1.0f - T_MIN : tt);
         for (int q = 0; q < 3; q++) pv[q] = a[q] + tc * ab[q];
-        if (nv3 && tc != tt) jm_meta_normal(g, c, hood, win, pv, nv3);
     }
     return 1;
 }

@@ -34,6 +34,28 @@ static inline uint32_t jm_probe_part(int np, int i, int j, int k)
     return (uint32_t)(((k / JM_PROBE_PART) * np + j / JM_PROBE_PART) * np + i / JM_PROBE_PART);
 }
 
+/* the parts [lo, hi] (per axis) holding the cubes that meet the box
+ * [blo, bhi] (nodes x0 + i h); 0 if none. The boxes are wider than the
+ * pieces by a thousandth of r, far more than the rounding here (doubles). */
+static inline int jm_probe_dfloor(double x)
+{
+    int t = (int)x;
+    return t - (x < (double)t);
+}
+static inline int jm_probe_part_span(const float x0[3], int B, double inv_h, const float blo[3], const float bhi[3], int lo[3],
+                     int hi[3])
+{
+    for (int a = 0; a < 3; a++) {
+        double f0 = ((double)blo[a] - (double)x0[a]) * inv_h, f1 = ((double)bhi[a] - (double)x0[a]) * inv_h;
+        if (f1 < 0.0 || f0 >= (double)B) return 0;
+        /* the cubes holding the box's ends, and all between */
+        int c0 = f0 < 0.0 ? 0 : jm_probe_dfloor(f0), c1 = f1 >= (double)B ? B - 1 : jm_probe_dfloor(f1);
+        lo[a] = c0 / JM_PROBE_PART;
+        hi[a] = c1 / JM_PROBE_PART;
+    }
+    return 1;
+}
+
 /* Room for vertex v (0 if out of memory). */
 int jm_probe_grow(jm_probe *pr, size_t v);
 
@@ -52,14 +74,14 @@ static inline int jm_probe_add(jm_probe *pr, size_t v, uint32_t slot, uint32_t p
 }
 void jm_probe_free(jm_probe *pr);
 
-/* The block's vertices (nv of them: pos, nrm (NULL: no normals), the edge
- * pieces cand; B cubes a side with node coordinates x, y, z and node
+/* The block's vertices (nv of them: pos, the edge pieces cand; B cubes a
+ * side with node coordinates x, y, z and node
  * values f) checked against every piece of the field: where the largest
  * piece value at a vertex's root is off the threshold by more than
  * c->mv_tol (a third piece winning mid-edge, or a refinement stopped
  * short), the vertex is settled again on every piece near it
- * (jm_meta_settle) and its normal blended from them. 0 if out of memory. */
+ * (jm_meta_settle); the normals come after (jm_meta_normals). 0 if out of
+ * memory. */
 int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, int B, const float *x,
-                  const float *y, const float *z, const float *f, float *pos, float *nrm, const uint32_t *cand,
-                  size_t nv);
+                  const float *y, const float *z, const float *f, float *pos, const uint32_t *cand, size_t nv);
 #endif

@@ -1,4 +1,4 @@
-/* metavertex.c - metasphere vertices: every piece near a point, settling onto the exact surface, blended normals. */
+/* metavertex.c - metasphere vertices: every piece near a point, settling onto the exact surface. */
 #include "metavertex.h"
 #include <math.h>
 #include <string.h>
@@ -33,40 +33,16 @@ void jm_metavertex_config(jm_config *c)
      * (about 1.5 % of the jet's vertices; 0.8 % are off by more than 0.02) */
     c->mv_check = 0.0125f;
     c->mv_inv_r = 1.0f / c->r;
-    /* normals blend the pieces within this of the maximum (see
-     * jm_meta_weight and jm_meta_normals) */
+    /* normals blend the pieces within this of the threshold
+     * (jm_meta_normals) */
     c->mv_tau = MV_GAP;
-    float reach = reach_of(c, c->threshold - c->mv_tau);
-    c->mv_reach2 = reach * reach;
-    reach = reach_of(c, c->threshold - c->mv_tol);
+    float reach = reach_of(c, c->threshold - c->mv_tol);
     c->mv_reach2s = reach * reach;
     /* A surface point lies within reach_of(threshold) of its winning
      * piece's particle, a piece exceeding the threshold there within as
      * much of its own: when twice that is under the link distance, every
      * such piece belongs to the winner's particle or a linked neighbour. */
     c->mv_links = 2.0f * reach_of(c, c->threshold) <= c->link + 1e-3f * c->r;
-}
-
-void jm_meta_blend(const jm_config *c, int n, const float *v, const float (*nk)[3], float out[3])
-{
-    int top = 0;
-    for (int k = 1; k < n; k++)
-        if (v[k] > v[top]) top = k;
-    const float *nt = nk[top];
-    float o[3] = {nt[0], nt[1], nt[2]};
-    int blended = 0;
-    for (int k = 0; k < n; k++) {
-        if (k == top) continue;
-        float w = jm_meta_weight(c, v[top] - v[k]);
-        if (!(w > 0.0f)) continue;
-        for (int a = 0; a < 3; a++) o[a] += w * nk[k][a];
-        blended = 1;
-    }
-    float len = blended ? sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]) : 0.0f;
-    if (len > 0.0f)
-        for (int a = 0; a < 3; a++) out[a] = o[a] / len;
-    else
-        memcpy(out, nt, 3 * sizeof *out);
 }
 
 /* pieces near a point, with their values (the NEAR best kept) */
@@ -125,9 +101,9 @@ static void near_scan(const jm_grid *g, const jm_config *c, const jm_hood *hood,
     ns->vmax = -INFINITY;
     /* q < r (cos(s/r) - level) <= r (1 - level) for any piece; and no
      * piece of a particle farther than its reach exceeds the level (the
-     * settle's level or the normals') */
+     * settle's) */
     const float rl = c->r * (1.0f - level), rl2 = rl * rl;
-    const float reach2 = level >= c->threshold - c->mv_tol ? c->mv_reach2s : c->mv_reach2;
+    const float reach2 = c->mv_reach2s; /* level is the settle's */
     if (c->mv_links) {
         uint32_t i = win < g->n ? win : g->nb_owner[win - g->n];
         near_particle(g, c, i, p, level, rl2, reach2, ns);
@@ -150,34 +126,6 @@ static void near_scan(const jm_grid *g, const jm_config *c, const jm_hood *hood,
                 for (uint32_t k = hood->range[2 * cell]; k < hood->range[2 * cell + 1]; k++)
                     if (!g->isolated[k]) near_particle(g, c, k, p, level, rl2, reach2, ns);
             }
-}
-
-/* normal at p from the pieces of ns (see jm_meta_blend; piece win's alone
- * if none) */
-static void blend_normal(const jm_grid *g, const jm_config *c, const near_set *ns, uint32_t win, const float p[3],
-                         float nrm[3])
-{
-    float v[NEAR], nk[NEAR][3];
-    int n = 0;
-    for (int k = 0; k < ns->n; k++) {
-        if (!(ns->vmax - ns->v[k] < c->mv_tau)) continue;
-        nk[n][0] = nk[n][1] = nk[n][2] = 0.0f;
-        v[n] = ns->v[k];
-        jm_prim_eval(g, c, ns->id[k], p, nk[n], NULL);
-        n++;
-    }
-    if (n)
-        jm_meta_blend(c, n, v, (const float(*)[3])nk, nrm);
-    else
-        jm_prim_eval(g, c, win, p, nrm, NULL);
-}
-
-void jm_meta_normal(const jm_grid *g, const jm_config *c, const jm_hood *hood, uint32_t win, const float p[3],
-                    float nrm[3])
-{
-    near_set ns;
-    near_scan(g, c, hood, win, p, c->threshold - c->mv_tau, &ns);
-    blend_normal(g, c, &ns, win, p, nrm);
 }
 
 /* the maximum over pieces set[0..n) at p: value, and the winner's index,
@@ -223,7 +171,7 @@ static float set_root(const jm_grid *g, const jm_config *c, const uint32_t *set,
 }
 
 float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, const uint32_t cand[2], uint32_t win,
-                     const float a[3], const float ab[3], float fa, float t, float nrm[3])
+                     const float a[3], const float ab[3], float fa, float t)
 {
     const float thr = c->threshold, tol = c->mv_tol, level = thr - tol;
     const float t_out = fa > 0.0f ? 1.0f : 0.0f, t_in = 1.0f - t_out;
@@ -257,15 +205,6 @@ float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
             /* outside the surface: the refinement stopped short */
             t = set_root(g, c, set, n, a, ab, t_in, t, &win);
         }
-    }
-    if (nrm) {
-        /* the pieces the vertex settled on, blended */
-        float v[8], nk[8][3];
-        for (int k = 0; k < n; k++) {
-            nk[k][0] = nk[k][1] = nk[k][2] = 0.0f;
-            v[k] = jm_prim_eval(g, c, set[k], p, nk[k], NULL);
-        }
-        jm_meta_blend(c, n, v, (const float(*)[3])nk, nrm);
     }
     return t;
 }
