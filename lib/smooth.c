@@ -41,6 +41,16 @@
  * the UVs are computed again from the final positions and normals.
  */
 
+/* The weights, steps and fan areas also cloned for AVX2 (three-operand
+ * instructions, fewer register copies; the weights' 8 lanes one vector),
+ * chosen at run time: the same operations, no FMA in ISO C mode, the same
+ * bits. JM_SMOOTH_PLAIN builds the plain code only (tests compare them). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
+#define JM_SM_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define JM_SM_CLONES
+#endif
+
 #define CH 2048    /* vertices per task */
 #define CYCLE 5    /* steps per super-time-stepping cycle */
 #define STS_NU 0.02
@@ -71,6 +81,7 @@ typedef struct sm_job {
     const uint32_t *nc;    /* ... and the one after it */
     const float *inv;      /* per vertex: 1 / its number of neighbours */
     const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel) */
+    int avx2;              /* nstep_task may run nstep_avx2 */
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
@@ -173,7 +184,7 @@ static sm_slot *neighbourhood(sm_job *job, sm_slot *slots, const int64_t cc[3])
 /* The particles' fullness interpolated at lattice corner k (spacing half a
  * grid cell): Shepard, cubic spline of support one grid cell, sums in 8 lanes
  * in a fixed order; -1 when out of memory. A pure function of k, cached. */
-static float corner_value(sm_job *job, int worker, const int64_t k[3])
+static inline __attribute__((always_inline)) float corner_value(sm_job *job, int worker, const int64_t k[3])
 {
     sm_corner *cs = &job->corners[(size_t)worker * NCORNER];
     unsigned h = (unsigned)((uint64_t)(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791) % NCORNER);
@@ -209,7 +220,7 @@ static float corner_value(sm_job *job, int worker, const int64_t k[3])
 /* Vertex weights: the fullness interpolated trilinearly from the corners of
  * the vertex's half-cell (the field varies on the particle scale; the
  * vertices lie four times closer), then the smoothstep. */
-static void weight_task(void *arg, size_t chunk, int worker)
+JM_SM_CLONES static void weight_task(void *arg, size_t chunk, int worker)
 {
     sm_job *job = arg;
     const float inv_half = 2.0f * job->g->inv_cell;
@@ -248,15 +259,6 @@ static void weight_task(void *arg, size_t chunk, int worker)
  * do the same operations in the same order as scalar code would: the same
  * bits. */
 typedef float v4f __attribute__((vector_size(16)));
-
-/* The steps and fan areas also cloned for AVX2 (three-operand instructions,
- * fewer register copies), chosen at run time: the same operations, no FMA in
- * ISO C mode, the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_SM_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define JM_SM_CLONES
-#endif
 
 static inline v4f load4(const float *p)
 {
@@ -395,14 +397,79 @@ static void normal_task(void *arg, size_t chunk, int worker)
     }
 }
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
+#define JM_SM_NSTEP_AVX2 1
+#include <immintrin.h>
+/* nstep_task for fans of up to 8 in AVX2, without branches: the 8 slots of the
+ * row (the -0 sentinel after the last neighbour) as 4 pairs, their facing
+ * products transposed so that one add of x, y and z gives all 8 sums in the
+ * scalar order ((x + y) + z), and a neighbour facing away (or the sentinel,
+ * whose sum is +-0) replaced by -0, which adds nothing: then the 8 adds in
+ * slot order. The same bits as nstep_task's plain code. */
+__attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, size_t b)
+{
+    const float *S = job->src;
+    float *D = job->dst;
+    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
+    const __m256 neg0 = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
+    for (size_t v = a; v < b; v++) {
+        __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
+        uint32_t s = start[v], e = start[v + 1];
+        if (e - s > 8) {
+            uint32_t k = 1;
+            for (uint32_t i = s; i < e; i++) {
+                __m128 q = _mm_loadu_ps(&S[4 * (size_t)nb[i]]), d = _mm_mul_ps(q, n);
+                if (d[0] + d[1] + d[2] > 0.0f) t = _mm_add_ps(t, q), k++;
+            }
+            _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
+            continue;
+        }
+        const uint32_t *q = &nb8[8 * v];
+        __m256 nn = _mm256_insertf128_ps(_mm256_castps128_ps256(n), n, 1);
+        __m256 Q0 = _mm256_loadu2_m128(&S[4 * (size_t)q[4]], &S[4 * (size_t)q[0]]);
+        __m256 Q1 = _mm256_loadu2_m128(&S[4 * (size_t)q[5]], &S[4 * (size_t)q[1]]);
+        __m256 Q2 = _mm256_loadu2_m128(&S[4 * (size_t)q[6]], &S[4 * (size_t)q[2]]);
+        __m256 Q3 = _mm256_loadu2_m128(&S[4 * (size_t)q[7]], &S[4 * (size_t)q[3]]);
+        __m256 P0 = _mm256_mul_ps(Q0, nn), P1 = _mm256_mul_ps(Q1, nn);
+        __m256 P2 = _mm256_mul_ps(Q2, nn), P3 = _mm256_mul_ps(Q3, nn);
+        __m256 t0 = _mm256_unpacklo_ps(P0, P1), t1 = _mm256_unpackhi_ps(P0, P1); /* x0 x1 y0 y1, z0 z1 . . */
+        __m256 t2 = _mm256_unpacklo_ps(P2, P3), t3 = _mm256_unpackhi_ps(P2, P3);
+        __m256 X = _mm256_shuffle_ps(t0, t2, 0x44), Y = _mm256_shuffle_ps(t0, t2, 0xEE);
+        __m256 Z = _mm256_shuffle_ps(t1, t3, 0x44);
+        /* lanes: slots 0 1 2 3 | 4 5 6 7 */
+        __m256 M = _mm256_cmp_ps(_mm256_add_ps(_mm256_add_ps(X, Y), Z), zero, _CMP_GT_OQ);
+        __m256 R0 = _mm256_blendv_ps(neg0, Q0, _mm256_permute_ps(M, 0x00));
+        __m256 R1 = _mm256_blendv_ps(neg0, Q1, _mm256_permute_ps(M, 0x55));
+        __m256 R2 = _mm256_blendv_ps(neg0, Q2, _mm256_permute_ps(M, 0xAA));
+        __m256 R3 = _mm256_blendv_ps(neg0, Q3, _mm256_permute_ps(M, 0xFF));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R0));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R1));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R2));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R3));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R0, 1));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R1, 1));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R2, 1));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R3, 1));
+        int k = 1 + __builtin_popcount((unsigned)_mm256_movemask_ps(M));
+        _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
+    }
+}
+#endif
+
 /* One step of normal smoothing: the mean of the vertex's normal and those of
  * its neighbours that face the same side (directions only; normalised after
  * the last step), 4 floats per vertex. */
-JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
+static void nstep_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+#ifdef JM_SM_NSTEP_AVX2
+    if (job->avx2) {
+        nstep_avx2(job, a, b);
+        return;
+    }
+#endif
     const float *S = job->src;
     float *D = job->dst;
     const uint32_t *start = job->start, *nb = job->nb;
@@ -567,6 +634,16 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
     if (!inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
     for (size_t v = 0; v < nv; v++) inv[v] = start[v + 1] > start[v] ? 1.0f / (float)(start[v + 1] - start[v]) : 0.0f;
+    /* the first 8 neighbours of each vertex, padded with nv: the -0
+     * sentinel vertex of the wide positions and normals */
+    uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
+    if (!nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    for (size_t v = 0; v < nv; v++) {
+        uint32_t d = start[v + 1] - start[v], j = 0;
+        if (d > 8) d = 8;
+        for (; j < d; j++) nb8[8 * v + j] = nb[start[v] + j];
+        for (; j < 8; j++) nb8[8 * v + j] = (uint32_t)nv;
+    }
 
     job.c = c;
     job.g = g;
@@ -577,6 +654,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.nb = nb;
     job.nc = nc;
     job.inv = inv;
+    job.nb8 = nb8;
     job.w = w;
     job.area = NULL;
 
@@ -618,18 +696,10 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
          * nothing to any float: the padding of the fixed fans of 8 */
         float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
         float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
-        uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
         float tau[CYCLE];
-        if (!a || !b || !nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
-        for (size_t v = 0; v < nv; v++) {
-            uint32_t d = start[v + 1] - start[v], j = 0;
-            if (d > 8) d = 8;
-            for (; j < d; j++) nb8[8 * v + j] = nb[start[v] + j];
-            for (; j < 8; j++) nb8[8 * v + j] = (uint32_t)nv;
-        }
-        job.nb8 = nb8;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
@@ -679,10 +749,15 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         float *keep = NULL;
         if (niters > 0) {
             keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
-            float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
+            float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
+            float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
             if (!keep || !a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
             widen(a, m->nrm, nv);
+            for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+#ifdef JM_SM_NSTEP_AVX2
+            job.avx2 = __builtin_cpu_supports("avx2");
+#endif
             for (int it = 0; it < niters; it++) {
                 job.src = a;
                 job.dst = b;
