@@ -80,7 +80,9 @@ typedef struct sm_job {
     const uint32_t *nb;    /* per incident triangle of v: the next corner */
     const uint32_t *nc;    /* ... and the one after it */
     const float *inv;      /* per vertex: 1 / its number of neighbours */
-    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel) */
+    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel), each
+                            * doubled: &S[2 q] is neighbour q of 4 floats per vertex in one
+                            * addressing mode (q < JM_PENDING = 2^31) */
     int avx2;              /* nstep_task may run nstep_avx2 */
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
@@ -313,14 +315,14 @@ JM_SM_CLONES static void step_task(void *arg, size_t chunk, int worker)
                 /* no branch on the degree: a misprediction costs more than
                  * adding the -0 of the sentinel */
                 const uint32_t *q = &nb8[8 * v];
-                sum = load4(&S[4 * (size_t)q[0]]);
-                sum += load4(&S[4 * (size_t)q[1]]);
-                sum += load4(&S[4 * (size_t)q[2]]);
-                sum += load4(&S[4 * (size_t)q[3]]);
-                sum += load4(&S[4 * (size_t)q[4]]);
-                sum += load4(&S[4 * (size_t)q[5]]);
-                sum += load4(&S[4 * (size_t)q[6]]);
-                sum += load4(&S[4 * (size_t)q[7]]);
+                sum = load4(&S[2 * (size_t)q[0]]);
+                sum += load4(&S[2 * (size_t)q[1]]);
+                sum += load4(&S[2 * (size_t)q[2]]);
+                sum += load4(&S[2 * (size_t)q[3]]);
+                sum += load4(&S[2 * (size_t)q[4]]);
+                sum += load4(&S[2 * (size_t)q[5]]);
+                sum += load4(&S[2 * (size_t)q[6]]);
+                sum += load4(&S[2 * (size_t)q[7]]);
             } else {
                 sum = fan_sum(S, nb, s, e);
             }
@@ -426,10 +428,10 @@ __attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, si
         }
         const uint32_t *q = &nb8[8 * v];
         __m256 nn = _mm256_insertf128_ps(_mm256_castps128_ps256(n), n, 1);
-        __m256 Q0 = _mm256_loadu2_m128(&S[4 * (size_t)q[4]], &S[4 * (size_t)q[0]]);
-        __m256 Q1 = _mm256_loadu2_m128(&S[4 * (size_t)q[5]], &S[4 * (size_t)q[1]]);
-        __m256 Q2 = _mm256_loadu2_m128(&S[4 * (size_t)q[6]], &S[4 * (size_t)q[2]]);
-        __m256 Q3 = _mm256_loadu2_m128(&S[4 * (size_t)q[7]], &S[4 * (size_t)q[3]]);
+        __m256 Q0 = _mm256_loadu2_m128(&S[2 * (size_t)q[4]], &S[2 * (size_t)q[0]]);
+        __m256 Q1 = _mm256_loadu2_m128(&S[2 * (size_t)q[5]], &S[2 * (size_t)q[1]]);
+        __m256 Q2 = _mm256_loadu2_m128(&S[2 * (size_t)q[6]], &S[2 * (size_t)q[2]]);
+        __m256 Q3 = _mm256_loadu2_m128(&S[2 * (size_t)q[7]], &S[2 * (size_t)q[3]]);
         __m256 P0 = _mm256_mul_ps(Q0, nn), P1 = _mm256_mul_ps(Q1, nn);
         __m256 P2 = _mm256_mul_ps(Q2, nn), P3 = _mm256_mul_ps(Q3, nn);
         __m256 t0 = _mm256_unpacklo_ps(P0, P1), t1 = _mm256_unpackhi_ps(P0, P1); /* x0 x1 y0 y1, z0 z1 . . */
@@ -641,8 +643,8 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     for (size_t v = 0; v < nv; v++) {
         uint32_t d = start[v + 1] - start[v], j = 0;
         if (d > 8) d = 8;
-        for (; j < d; j++) nb8[8 * v + j] = nb[start[v] + j];
-        for (; j < 8; j++) nb8[8 * v + j] = (uint32_t)nv;
+        for (; j < d; j++) nb8[8 * v + j] = 2 * nb[start[v] + j];
+        for (; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
     }
 
     job.c = c;
