@@ -84,6 +84,11 @@ typedef struct sm_job {
                             * doubled: &S[2 q] is neighbour q of 4 floats per vertex in one
                             * addressing mode (q < JM_PENDING = 2^31) */
     int avx2;              /* nstep_task may run nstep_avx2 */
+    const uint32_t *odd;   /* increasing: the vertices of 0 or more than 8 neighbours or a weight
+                            * under 1e-30 (k = w tau might be 0), which step_task does one by one */
+    size_t nodd;
+    const uint32_t *big;   /* increasing: the vertices of more than 8 neighbours */
+    size_t nbig;
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
@@ -294,42 +299,79 @@ static inline v4f fan_sum(const float *S, const uint32_t *nb, uint32_t s, uint32
     return sum;
 }
 
-/* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per vertex. */
+/* The first of the n increasing entries of list that is at least a. */
+static size_t lower_bound(const uint32_t *list, size_t n, size_t a)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (list[mid] < a) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per
+ * vertex: vertex v. */
+static inline void step_one(const sm_job *job, size_t v)
+{
+    const float *S = job->src;
+    const uint32_t *nb8 = job->nb8;
+    uint32_t s = job->start[v], e = job->start[v + 1];
+    v4f p = load4(&S[4 * v]);
+    float k = job->w[v] * job->tau;
+    if (k != 0.0f && e != s) {
+        v4f sum;
+        if (e - s <= 8) {
+            const uint32_t *q = &nb8[8 * v];
+            sum = load4(&S[2 * (size_t)q[0]]);
+            sum += load4(&S[2 * (size_t)q[1]]);
+            sum += load4(&S[2 * (size_t)q[2]]);
+            sum += load4(&S[2 * (size_t)q[3]]);
+            sum += load4(&S[2 * (size_t)q[4]]);
+            sum += load4(&S[2 * (size_t)q[5]]);
+            sum += load4(&S[2 * (size_t)q[6]]);
+            sum += load4(&S[2 * (size_t)q[7]]);
+        } else {
+            sum = fan_sum(S, job->nb, s, e);
+        }
+        p += k * (sum * job->inv[v] - p);
+    }
+    memcpy(&job->dst[4 * v], &p, sizeof p);
+}
+
+/* The step over vertices [a, b): the usual vertex (1 to 8 neighbours, a
+ * weight that keeps k = w tau nonzero) in straight-line code without a branch,
+ * the 8 slots of its row summed (a -0 sentinel adds nothing: the same bits),
+ * then the others (job->odd) again the careful way, unless they are many. */
 JM_SM_CLONES static void step_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    size_t lo = lower_bound(job->odd, job->nodd, a), hi = lower_bound(job->odd, job->nodd, b);
+    if (8 * (hi - lo) > b - a) {
+        for (size_t v = a; v < b; v++) step_one(job, v);
+        return;
+    }
     const float *S = job->src, *w = job->w, *inv = job->inv, tau = job->tau;
     float *D = job->dst;
-    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
-    uint32_t e = start[a];
+    const uint32_t *nb8 = job->nb8;
     for (size_t v = a; v < b; v++) {
         v4f p = load4(&S[4 * v]);
-        uint32_t s = e;
-        e = start[v + 1];
-        float k = w[v] * tau;
-        if (k != 0.0f && e != s) {
-            v4f sum;
-            if (e - s <= 8) {
-                /* no branch on the degree: a misprediction costs more than
-                 * adding the -0 of the sentinel */
-                const uint32_t *q = &nb8[8 * v];
-                sum = load4(&S[2 * (size_t)q[0]]);
-                sum += load4(&S[2 * (size_t)q[1]]);
-                sum += load4(&S[2 * (size_t)q[2]]);
-                sum += load4(&S[2 * (size_t)q[3]]);
-                sum += load4(&S[2 * (size_t)q[4]]);
-                sum += load4(&S[2 * (size_t)q[5]]);
-                sum += load4(&S[2 * (size_t)q[6]]);
-                sum += load4(&S[2 * (size_t)q[7]]);
-            } else {
-                sum = fan_sum(S, nb, s, e);
-            }
-            p += k * (sum * inv[v] - p);
-        }
+        const uint32_t *q = &nb8[8 * v];
+        v4f sum = load4(&S[2 * (size_t)q[0]]);
+        sum += load4(&S[2 * (size_t)q[1]]);
+        sum += load4(&S[2 * (size_t)q[2]]);
+        sum += load4(&S[2 * (size_t)q[3]]);
+        sum += load4(&S[2 * (size_t)q[4]]);
+        sum += load4(&S[2 * (size_t)q[5]]);
+        sum += load4(&S[2 * (size_t)q[6]]);
+        sum += load4(&S[2 * (size_t)q[7]]);
+        p += w[v] * tau * (sum * inv[v] - p);
         memcpy(&D[4 * v], &p, sizeof p);
     }
+    for (; lo < hi; lo++) step_one(job, job->odd[lo]);
 }
 
 /* Area vector of each vertex's fan: the sum of its triangles' cross products
@@ -402,7 +444,8 @@ static void normal_task(void *arg, size_t chunk, int worker)
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
 #define JM_SM_NSTEP_AVX2 1
 #include <immintrin.h>
-/* nstep_task for fans of up to 8 in AVX2, without branches: the 8 slots of the
+/* nstep_task in AVX2, for fans of up to 8 without branches (those of more
+ * done again afterwards): the 8 slots of the
  * row (the -0 sentinel after the last neighbour) as 4 pairs, their facing
  * products transposed so that one add of x, y and z gives all 8 sums in the
  * scalar order ((x + y) + z), and a neighbour facing away (or the sentinel,
@@ -416,16 +459,6 @@ __attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, si
     const __m256 neg0 = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
     for (size_t v = a; v < b; v++) {
         __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
-        uint32_t s = start[v], e = start[v + 1];
-        if (e - s > 8) {
-            uint32_t k = 1;
-            for (uint32_t i = s; i < e; i++) {
-                __m128 q = _mm_loadu_ps(&S[4 * (size_t)nb[i]]), d = _mm_mul_ps(q, n);
-                if (d[0] + d[1] + d[2] > 0.0f) t = _mm_add_ps(t, q), k++;
-            }
-            _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
-            continue;
-        }
         const uint32_t *q = &nb8[8 * v];
         __m256 nn = _mm256_insertf128_ps(_mm256_castps128_ps256(n), n, 1);
         __m256 Q0 = _mm256_loadu2_m128(&S[2 * (size_t)q[4]], &S[2 * (size_t)q[0]]);
@@ -453,6 +486,17 @@ __attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, si
         t = _mm_add_ps(t, _mm256_extractf128_ps(R2, 1));
         t = _mm_add_ps(t, _mm256_extractf128_ps(R3, 1));
         int k = 1 + __builtin_popcount((unsigned)_mm256_movemask_ps(M));
+        _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
+    }
+    /* the vertices of more than 8 neighbours: over all of them */
+    for (size_t i = lower_bound(job->big, job->nbig, a); i < job->nbig && job->big[i] < b; i++) {
+        size_t v = job->big[i];
+        __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
+        uint32_t k = 1;
+        for (uint32_t j = start[v]; j < start[v + 1]; j++) {
+            __m128 q = _mm_loadu_ps(&S[4 * (size_t)nb[j]]), d = _mm_mul_ps(q, n);
+            if (d[0] + d[1] + d[2] > 0.0f) t = _mm_add_ps(t, q), k++;
+        }
         _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
     }
 }
@@ -533,7 +577,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8 };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8, B_ODD, B_BIG };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -647,6 +691,15 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         for (; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
     }
 
+    size_t nbig = 0;
+    for (size_t v = 0; v < nv; v++) nbig += start[v + 1] - start[v] > 8;
+    uint32_t *big = scratch_buf(sc, mem, B_BIG, nbig * sizeof *big);
+    if (!big) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    nbig = 0;
+    for (size_t v = 0; v < nv; v++)
+        if (start[v + 1] - start[v] > 8) big[nbig++] = (uint32_t)v;
+    job.big = big;
+    job.nbig = nbig;
     job.c = c;
     job.g = g;
     job.m = m;
@@ -702,6 +755,15 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+        size_t nodd = 0;
+        for (size_t v = 0; v < nv; v++) nodd += start[v + 1] - start[v] - 1 >= 8 || !(w[v] >= 1e-30f);
+        uint32_t *odd = scratch_buf(sc, mem, B_ODD, nodd * sizeof *odd);
+        if (!odd) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        nodd = 0;
+        for (size_t v = 0; v < nv; v++)
+            if (start[v + 1] - start[v] - 1 >= 8 || !(w[v] >= 1e-30f)) odd[nodd++] = (uint32_t)v;
+        job.odd = odd;
+        job.nodd = nodd;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
