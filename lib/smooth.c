@@ -598,6 +598,15 @@ void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
     memset(s, 0, sizeof *s);
 }
 
+static uint32_t find_root(uint32_t *parent, uint32_t v)
+{
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
 /* Signed volume of each connected piece (comp[] of a triangle's first
  * corner), from positions P of 4 floats per vertex: the triangles' terms in
  * double, summed in triangle order. */
@@ -777,24 +786,20 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         jm_pool_run(pool, nchunks, 1, weight_task, &job);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto out; }
 
-        /* connected pieces, labelled in the order of their smallest vertex:
-         * a vertex not yet labelled is the smallest of a new piece, which
-         * is flooded along the fans (each triangle is a cycle of them) with
-         * buf as the stack */
-        uint32_t *stack = (uint32_t *)buf;
-        for (size_t v = 0; v < nv; v++) comp[v] = UINT32_MAX;
-        for (size_t v = 0; v < nv; v++) {
-            if (comp[v] != UINT32_MAX) continue;
-            uint32_t label = (uint32_t)ncomp++;
-            size_t sp = 0;
-            comp[v] = label;
-            stack[sp++] = (uint32_t)v;
-            while (sp > 0) {
-                uint32_t x = stack[--sp];
-                for (uint32_t i = start[x]; i < start[x + 1]; i++)
-                    if (comp[nb[i]] == UINT32_MAX) comp[nb[i]] = label, stack[sp++] = nb[i];
+        /* connected pieces: union-find, roots the smallest vertex, labels in
+         * vertex order (buf holds them for a moment) */
+        for (size_t v = 0; v < nv; v++) comp[v] = (uint32_t)v;
+        for (size_t t = 0; t + 2 < ni; t += 3)
+            for (int k = 1; k < 3; k++) {
+                uint32_t ra = find_root(comp, m->idx[t]), rb = find_root(comp, m->idx[t + k]);
+                if (ra != rb) comp[ra > rb ? ra : rb] = ra < rb ? ra : rb;
             }
+        uint32_t *label = (uint32_t *)buf;
+        for (size_t v = 0; v < nv; v++) {
+            uint32_t r = find_root(comp, (uint32_t)v);
+            label[v] = r == v ? (uint32_t)ncomp++ : label[r];
         }
+        memcpy(comp, label, nv * sizeof *comp);
         vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
