@@ -41,6 +41,16 @@
  * the UVs are computed again from the final positions and normals.
  */
 
+/* The weights, steps and fan areas also cloned for AVX2 (three-operand
+ * instructions, fewer register copies; the weights' 8 lanes one vector),
+ * chosen at run time: the same operations, no FMA in ISO C mode, the same
+ * bits. JM_SMOOTH_PLAIN builds the plain code only (tests compare them). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
+#define JM_SM_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define JM_SM_CLONES
+#endif
+
 #define CH 2048    /* vertices per task */
 #define CYCLE 5    /* steps per super-time-stepping cycle */
 #define STS_NU 0.02
@@ -70,7 +80,15 @@ typedef struct sm_job {
     const uint32_t *nb;    /* per incident triangle of v: the next corner */
     const uint32_t *nc;    /* ... and the one after it */
     const float *inv;      /* per vertex: 1 / its number of neighbours */
-    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel) */
+    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel), each
+                            * doubled: &S[2 q] is neighbour q of 4 floats per vertex in one
+                            * addressing mode (q < JM_PENDING = 2^31) */
+    int avx2;              /* the AVX2 normal step and piece volumes may run */
+    const uint32_t *odd;   /* increasing: the vertices of 0 or more than 8 neighbours or a weight
+                            * under 1e-30 (k = w tau might be 0), which step_task does one by one */
+    size_t nodd;
+    const uint32_t *big;   /* increasing: the vertices of more than 8 neighbours */
+    size_t nbig;
     const float *phi;      /* per sorted particle: fullness in [0, 1] */
     float *w;              /* per vertex smoothing weight */
     sm_slot *slots;        /* NSLOT per worker */
@@ -173,7 +191,7 @@ static sm_slot *neighbourhood(sm_job *job, sm_slot *slots, const int64_t cc[3])
 /* The particles' fullness interpolated at lattice corner k (spacing half a
  * grid cell): Shepard, cubic spline of support one grid cell, sums in 8 lanes
  * in a fixed order; -1 when out of memory. A pure function of k, cached. */
-static float corner_value(sm_job *job, int worker, const int64_t k[3])
+static inline __attribute__((always_inline)) float corner_value(sm_job *job, int worker, const int64_t k[3])
 {
     sm_corner *cs = &job->corners[(size_t)worker * NCORNER];
     unsigned h = (unsigned)((uint64_t)(k[0] * 73856093 ^ k[1] * 19349663 ^ k[2] * 83492791) % NCORNER);
@@ -209,7 +227,7 @@ static float corner_value(sm_job *job, int worker, const int64_t k[3])
 /* Vertex weights: the fullness interpolated trilinearly from the corners of
  * the vertex's half-cell (the field varies on the particle scale; the
  * vertices lie four times closer), then the smoothstep. */
-static void weight_task(void *arg, size_t chunk, int worker)
+JM_SM_CLONES static void weight_task(void *arg, size_t chunk, int worker)
 {
     sm_job *job = arg;
     const float inv_half = 2.0f * job->g->inv_cell;
@@ -249,15 +267,6 @@ static void weight_task(void *arg, size_t chunk, int worker)
  * bits. */
 typedef float v4f __attribute__((vector_size(16)));
 
-/* The steps and fan areas also cloned for AVX2 (three-operand instructions,
- * fewer register copies), chosen at run time: the same operations, no FMA in
- * ISO C mode, the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_SM_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define JM_SM_CLONES
-#endif
-
 static inline v4f load4(const float *p)
 {
     v4f r;
@@ -290,42 +299,79 @@ static inline v4f fan_sum(const float *S, const uint32_t *nb, uint32_t s, uint32
     return sum;
 }
 
-/* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per vertex. */
+/* The first of the n increasing entries of list that is at least a. */
+static size_t lower_bound(const uint32_t *list, size_t n, size_t a)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (list[mid] < a) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+/* One step: dst = src + tau w (mean of the neighbours - src), 4 floats per
+ * vertex: vertex v. */
+static inline void step_one(const sm_job *job, size_t v)
+{
+    const float *S = job->src;
+    const uint32_t *nb8 = job->nb8;
+    uint32_t s = job->start[v], e = job->start[v + 1];
+    v4f p = load4(&S[4 * v]);
+    float k = job->w[v] * job->tau;
+    if (k != 0.0f && e != s) {
+        v4f sum;
+        if (e - s <= 8) {
+            const uint32_t *q = &nb8[8 * v];
+            sum = load4(&S[2 * (size_t)q[0]]);
+            sum += load4(&S[2 * (size_t)q[1]]);
+            sum += load4(&S[2 * (size_t)q[2]]);
+            sum += load4(&S[2 * (size_t)q[3]]);
+            sum += load4(&S[2 * (size_t)q[4]]);
+            sum += load4(&S[2 * (size_t)q[5]]);
+            sum += load4(&S[2 * (size_t)q[6]]);
+            sum += load4(&S[2 * (size_t)q[7]]);
+        } else {
+            sum = fan_sum(S, job->nb, s, e);
+        }
+        p += k * (sum * job->inv[v] - p);
+    }
+    memcpy(&job->dst[4 * v], &p, sizeof p);
+}
+
+/* The step over vertices [a, b): the usual vertex (1 to 8 neighbours, a
+ * weight that keeps k = w tau nonzero) in straight-line code without a branch,
+ * the 8 slots of its row summed (a -0 sentinel adds nothing: the same bits),
+ * then the others (job->odd) again the careful way, unless they are many. */
 JM_SM_CLONES static void step_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    size_t lo = lower_bound(job->odd, job->nodd, a), hi = lower_bound(job->odd, job->nodd, b);
+    if (8 * (hi - lo) > b - a) {
+        for (size_t v = a; v < b; v++) step_one(job, v);
+        return;
+    }
     const float *S = job->src, *w = job->w, *inv = job->inv, tau = job->tau;
     float *D = job->dst;
-    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
-    uint32_t e = start[a];
+    const uint32_t *nb8 = job->nb8;
     for (size_t v = a; v < b; v++) {
         v4f p = load4(&S[4 * v]);
-        uint32_t s = e;
-        e = start[v + 1];
-        float k = w[v] * tau;
-        if (k != 0.0f && e != s) {
-            v4f sum;
-            if (e - s <= 8) {
-                /* no branch on the degree: a misprediction costs more than
-                 * adding the -0 of the sentinel */
-                const uint32_t *q = &nb8[8 * v];
-                sum = load4(&S[4 * (size_t)q[0]]);
-                sum += load4(&S[4 * (size_t)q[1]]);
-                sum += load4(&S[4 * (size_t)q[2]]);
-                sum += load4(&S[4 * (size_t)q[3]]);
-                sum += load4(&S[4 * (size_t)q[4]]);
-                sum += load4(&S[4 * (size_t)q[5]]);
-                sum += load4(&S[4 * (size_t)q[6]]);
-                sum += load4(&S[4 * (size_t)q[7]]);
-            } else {
-                sum = fan_sum(S, nb, s, e);
-            }
-            p += k * (sum * inv[v] - p);
-        }
+        const uint32_t *q = &nb8[8 * v];
+        v4f sum = load4(&S[2 * (size_t)q[0]]);
+        sum += load4(&S[2 * (size_t)q[1]]);
+        sum += load4(&S[2 * (size_t)q[2]]);
+        sum += load4(&S[2 * (size_t)q[3]]);
+        sum += load4(&S[2 * (size_t)q[4]]);
+        sum += load4(&S[2 * (size_t)q[5]]);
+        sum += load4(&S[2 * (size_t)q[6]]);
+        sum += load4(&S[2 * (size_t)q[7]]);
+        p += w[v] * tau * (sum * inv[v] - p);
         memcpy(&D[4 * v], &p, sizeof p);
     }
+    for (; lo < hi; lo++) step_one(job, job->odd[lo]);
 }
 
 /* Area vector of each vertex's fan: the sum of its triangles' cross products
@@ -395,14 +441,81 @@ static void normal_task(void *arg, size_t chunk, int worker)
     }
 }
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
+#define JM_SM_NSTEP_AVX2 1
+#include <immintrin.h>
+/* nstep_task in AVX2, for fans of up to 8 without branches (those of more
+ * done again afterwards): the 8 slots of the
+ * row (the -0 sentinel after the last neighbour) as 4 pairs, their facing
+ * products transposed so that one add of x, y and z gives all 8 sums in the
+ * scalar order ((x + y) + z), and a neighbour facing away (or the sentinel,
+ * whose sum is +-0) replaced by -0, which adds nothing: then the 8 adds in
+ * slot order. The same bits as nstep_task's plain code. */
+__attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, size_t b)
+{
+    const float *S = job->src;
+    float *D = job->dst;
+    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
+    const __m256 neg0 = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
+    for (size_t v = a; v < b; v++) {
+        __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
+        const uint32_t *q = &nb8[8 * v];
+        __m256 nn = _mm256_insertf128_ps(_mm256_castps128_ps256(n), n, 1);
+        __m256 Q0 = _mm256_loadu2_m128(&S[2 * (size_t)q[4]], &S[2 * (size_t)q[0]]);
+        __m256 Q1 = _mm256_loadu2_m128(&S[2 * (size_t)q[5]], &S[2 * (size_t)q[1]]);
+        __m256 Q2 = _mm256_loadu2_m128(&S[2 * (size_t)q[6]], &S[2 * (size_t)q[2]]);
+        __m256 Q3 = _mm256_loadu2_m128(&S[2 * (size_t)q[7]], &S[2 * (size_t)q[3]]);
+        __m256 P0 = _mm256_mul_ps(Q0, nn), P1 = _mm256_mul_ps(Q1, nn);
+        __m256 P2 = _mm256_mul_ps(Q2, nn), P3 = _mm256_mul_ps(Q3, nn);
+        __m256 t0 = _mm256_unpacklo_ps(P0, P1), t1 = _mm256_unpackhi_ps(P0, P1); /* x0 x1 y0 y1, z0 z1 . . */
+        __m256 t2 = _mm256_unpacklo_ps(P2, P3), t3 = _mm256_unpackhi_ps(P2, P3);
+        __m256 X = _mm256_shuffle_ps(t0, t2, 0x44), Y = _mm256_shuffle_ps(t0, t2, 0xEE);
+        __m256 Z = _mm256_shuffle_ps(t1, t3, 0x44);
+        /* lanes: slots 0 1 2 3 | 4 5 6 7 */
+        __m256 M = _mm256_cmp_ps(_mm256_add_ps(_mm256_add_ps(X, Y), Z), zero, _CMP_GT_OQ);
+        __m256 R0 = _mm256_blendv_ps(neg0, Q0, _mm256_permute_ps(M, 0x00));
+        __m256 R1 = _mm256_blendv_ps(neg0, Q1, _mm256_permute_ps(M, 0x55));
+        __m256 R2 = _mm256_blendv_ps(neg0, Q2, _mm256_permute_ps(M, 0xAA));
+        __m256 R3 = _mm256_blendv_ps(neg0, Q3, _mm256_permute_ps(M, 0xFF));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R0));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R1));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R2));
+        t = _mm_add_ps(t, _mm256_castps256_ps128(R3));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R0, 1));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R1, 1));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R2, 1));
+        t = _mm_add_ps(t, _mm256_extractf128_ps(R3, 1));
+        int k = 1 + __builtin_popcount((unsigned)_mm256_movemask_ps(M));
+        _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
+    }
+    /* the vertices of more than 8 neighbours: over all of them */
+    for (size_t i = lower_bound(job->big, job->nbig, a); i < job->nbig && job->big[i] < b; i++) {
+        size_t v = job->big[i];
+        __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
+        uint32_t k = 1;
+        for (uint32_t j = start[v]; j < start[v + 1]; j++) {
+            __m128 q = _mm_loadu_ps(&S[4 * (size_t)nb[j]]), d = _mm_mul_ps(q, n);
+            if (d[0] + d[1] + d[2] > 0.0f) t = _mm_add_ps(t, q), k++;
+        }
+        _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
+    }
+}
+#endif
+
 /* One step of normal smoothing: the mean of the vertex's normal and those of
  * its neighbours that face the same side (directions only; normalised after
  * the last step), 4 floats per vertex. */
-JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
+static void nstep_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+#ifdef JM_SM_NSTEP_AVX2
+    if (job->avx2) {
+        nstep_avx2(job, a, b);
+        return;
+    }
+#endif
     const float *S = job->src;
     float *D = job->dst;
     const uint32_t *start = job->start, *nb = job->nb;
@@ -464,7 +577,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8 };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8, B_ODD, B_BIG };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -495,17 +608,72 @@ static uint32_t find_root(uint32_t *parent, uint32_t v)
 }
 
 /* Signed volume of each connected piece (comp[] of a triangle's first
- * corner), from positions P of `stride` floats per vertex. */
-static void piece_volumes(const jm_post_mesh *m, const float *P, size_t stride, const uint32_t *comp, double *vol,
-                          size_t ncomp)
+ * corner), from positions P of 4 floats per vertex: the triangles' terms in
+ * double, summed in triangle order. */
+static void piece_volumes(const jm_post_mesh *m, const float *P, const uint32_t *comp, double *vol, size_t ncomp,
+                          int avx2);
+
+static inline double volume_term(const float *a, const float *b, const float *c)
+{
+    double cx = (double)b[1] * c[2] - (double)b[2] * c[1];
+    double cy = (double)b[2] * c[0] - (double)b[0] * c[2];
+    double cz = (double)b[0] * c[1] - (double)b[1] * c[0];
+    return (a[0] * cx + a[1] * cy + a[2] * cz) / 6.0;
+}
+
+#ifdef JM_SM_NSTEP_AVX2
+/* 4 triangles at a time in AVX2: their corners transposed to x, y, z of 4,
+ * widened to double, the same operations in 4 lanes; the terms then added in
+ * triangle order. */
+__attribute__((target("avx2"))) static void piece_volumes_avx2(const jm_post_mesh *m, const float *P,
+                                                                 const uint32_t *comp, double *vol)
+{
+    const uint32_t *idx = m->idx;
+    size_t nt = m->ni_lattice / 3, t = 0;
+    const __m256d six = _mm256_set1_pd(6.0);
+    double term[4];
+    for (; t + 4 <= nt; t += 4) {
+        const uint32_t *T = &idx[3 * t];
+        __m256d X[3], Y[3], Z[3];
+        for (int k = 0; k < 3; k++) {
+            __m128 p0 = _mm_loadu_ps(&P[4 * (size_t)T[k]]), p1 = _mm_loadu_ps(&P[4 * (size_t)T[3 + k]]);
+            __m128 p2 = _mm_loadu_ps(&P[4 * (size_t)T[6 + k]]), p3 = _mm_loadu_ps(&P[4 * (size_t)T[9 + k]]);
+            __m128 t0 = _mm_unpacklo_ps(p0, p1), t1 = _mm_unpackhi_ps(p0, p1); /* x0 x1 y0 y1, z0 z1 . . */
+            __m128 t2 = _mm_unpacklo_ps(p2, p3), t3 = _mm_unpackhi_ps(p2, p3);
+            X[k] = _mm256_cvtps_pd(_mm_movelh_ps(t0, t2));
+            Y[k] = _mm256_cvtps_pd(_mm_movehl_ps(t2, t0));
+            Z[k] = _mm256_cvtps_pd(_mm_movelh_ps(t1, t3));
+        }
+        __m256d cx = _mm256_sub_pd(_mm256_mul_pd(Y[1], Z[2]), _mm256_mul_pd(Z[1], Y[2]));
+        __m256d cy = _mm256_sub_pd(_mm256_mul_pd(Z[1], X[2]), _mm256_mul_pd(X[1], Z[2]));
+        __m256d cz = _mm256_sub_pd(_mm256_mul_pd(X[1], Y[2]), _mm256_mul_pd(Y[1], X[2]));
+        __m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(X[0], cx), _mm256_mul_pd(Y[0], cy)),
+                                  _mm256_mul_pd(Z[0], cz));
+        _mm256_storeu_pd(term, _mm256_div_pd(d, six));
+        for (int k = 0; k < 4; k++) vol[comp[T[3 * k]]] += term[k];
+    }
+    for (; t < nt; t++) {
+        const uint32_t *T = &idx[3 * t];
+        vol[comp[T[0]]] += volume_term(&P[4 * (size_t)T[0]], &P[4 * (size_t)T[1]], &P[4 * (size_t)T[2]]);
+    }
+}
+#endif
+
+static void piece_volumes(const jm_post_mesh *m, const float *P, const uint32_t *comp, double *vol, size_t ncomp,
+                          int avx2)
 {
     memset(vol, 0, ncomp * sizeof *vol);
+#ifdef JM_SM_NSTEP_AVX2
+    if (avx2) {
+        piece_volumes_avx2(m, P, comp, vol);
+        return;
+    }
+#else
+    (void)avx2;
+#endif
     for (size_t t = 0; t + 2 < m->ni_lattice; t += 3) {
-        const float *a = &P[stride * m->idx[t]], *b = &P[stride * m->idx[t + 1]], *c = &P[stride * m->idx[t + 2]];
-        double cx = (double)b[1] * c[2] - (double)b[2] * c[1];
-        double cy = (double)b[2] * c[0] - (double)b[0] * c[2];
-        double cz = (double)b[0] * c[1] - (double)b[1] * c[0];
-        vol[comp[m->idx[t]]] += (a[0] * cx + a[1] * cy + a[2] * cz) / 6.0;
+        const uint32_t *T = &m->idx[t];
+        vol[comp[T[0]]] += volume_term(&P[4 * (size_t)T[0]], &P[4 * (size_t)T[1]], &P[4 * (size_t)T[2]]);
     }
 }
 
@@ -567,9 +735,31 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
     if (!inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
     for (size_t v = 0; v < nv; v++) inv[v] = start[v + 1] > start[v] ? 1.0f / (float)(start[v + 1] - start[v]) : 0.0f;
+    /* the first 8 neighbours of each vertex, padded with nv: the -0
+     * sentinel vertex of the wide positions and normals */
+    uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
+    if (!nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    for (size_t v = 0; v < nv; v++) {
+        uint32_t d = start[v + 1] - start[v], j = 0;
+        if (d > 8) d = 8;
+        for (; j < d; j++) nb8[8 * v + j] = 2 * nb[start[v] + j];
+        for (; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
+    }
 
+    size_t nbig = 0;
+    for (size_t v = 0; v < nv; v++) nbig += start[v + 1] - start[v] > 8;
+    uint32_t *big = scratch_buf(sc, mem, B_BIG, nbig * sizeof *big);
+    if (!big) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    nbig = 0;
+    for (size_t v = 0; v < nv; v++)
+        if (start[v + 1] - start[v] > 8) big[nbig++] = (uint32_t)v;
+    job.big = big;
+    job.nbig = nbig;
     job.c = c;
     job.g = g;
+#ifdef JM_SM_NSTEP_AVX2
+    job.avx2 = __builtin_cpu_supports("avx2");
+#endif
     job.m = m;
     job.mem = mem;
     job.nv = nv;
@@ -577,6 +767,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.nb = nb;
     job.nc = nc;
     job.inv = inv;
+    job.nb8 = nb8;
     job.w = w;
     job.area = NULL;
 
@@ -612,24 +803,25 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
-        piece_volumes(m, m->pos, 3, comp, vol0, ncomp);
 
         /* the wide positions have a sentinel vertex nv of -0, which adds
          * nothing to any float: the padding of the fixed fans of 8 */
         float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
         float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
-        uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
         float tau[CYCLE];
-        if (!a || !b || !nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
-        for (size_t v = 0; v < nv; v++) {
-            uint32_t d = start[v + 1] - start[v], j = 0;
-            if (d > 8) d = 8;
-            for (; j < d; j++) nb8[8 * v + j] = nb[start[v] + j];
-            for (; j < 8; j++) nb8[8 * v + j] = (uint32_t)nv;
-        }
-        job.nb8 = nb8;
+        piece_volumes(m, a, comp, vol0, ncomp, job.avx2);
+        size_t nodd = 0;
+        for (size_t v = 0; v < nv; v++) nodd += start[v + 1] - start[v] - 1 >= 8 || !(w[v] >= 1e-30f);
+        uint32_t *odd = scratch_buf(sc, mem, B_ODD, nodd * sizeof *odd);
+        if (!odd) { st = JM_E_OUT_OF_MEMORY; goto out; }
+        nodd = 0;
+        for (size_t v = 0; v < nv; v++)
+            if (start[v + 1] - start[v] - 1 >= 8 || !(w[v] >= 1e-30f)) odd[nodd++] = (uint32_t)v;
+        job.odd = odd;
+        job.nodd = nodd;
         for (int it = 0; it < iters; it += CYCLE) {
             int k = iters - it < CYCLE ? iters - it : CYCLE;
             sts_steps(k, tau);
@@ -647,7 +839,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
          * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
         for (int pass = 0; pass < 2; pass++) {
             jm_pool_run(pool, nchunks, 1, area_task, &job);
-            piece_volumes(m, a, 4, comp, vol1, ncomp);
+            piece_volumes(m, a, comp, vol1, ncomp, job.avx2);
             memset(den, 0, 2 * ncomp * sizeof *den);
             for (size_t v = 0; v < nv; v++) {
                 const float *A = &area[3 * v];
@@ -679,10 +871,12 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         float *keep = NULL;
         if (niters > 0) {
             keep = area ? area : scratch_buf(sc, mem, B_KEEP, nv * 3 * sizeof *keep);
-            float *a = scratch_buf(sc, mem, B_WIDE_A, nv * 4 * sizeof *a), *b = scratch_buf(sc, mem, B_WIDE_B, nv * 4 * sizeof *b);
+            float *a = scratch_buf(sc, mem, B_WIDE_A, (nv + 1) * 4 * sizeof *a);
+            float *b = scratch_buf(sc, mem, B_WIDE_B, (nv + 1) * 4 * sizeof *b);
             if (!keep || !a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
             widen(a, m->nrm, nv);
+            for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
             for (int it = 0; it < niters; it++) {
                 job.src = a;
                 job.dst = b;

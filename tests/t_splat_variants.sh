@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere) give byte-identical meshes.
+# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere), and the smoothing's AVX2 and plain C paths, give byte-identical meshes.
 set -e
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root"
@@ -9,8 +9,13 @@ in=samples/real/double_dam_break_frame_26_4732_particles.vtk
 "$J" convert "$in" -r 0.025 --field sph --method mc -o "$tmp/auto.obj" -q
 "$J" convert samples/jet/jet_099.csv -r 0.025 -o "$tmp/meta.obj" -q
 "$J" convert "$in" -r 0.025 --field sph --anisotropic --method mc -o "$tmp/aniso.obj" -q
+# smoothing: binary PLY (every bit of every float)
+smooth="--field sph --method mc --smooth 25 --smooth-normals 10"
+"$J" convert "$in" -r 0.025 $smooth -o "$tmp/smooth.ply" -q
 for v in 1 2 3; do
-  make --no-print-directory -j2 BUILD="build-splat$v" CFLAGS="-DJM_SPLAT_VARIANT=$v" "build-splat$v/jetmesh" >/dev/null
+  # variant 3 (plain C) also builds the smoothing's plain code only
+  extra=; [ "$v" = 3 ] && extra=-DJM_SMOOTH_PLAIN
+  make --no-print-directory -j2 BUILD="build-splat$v" CFLAGS="-DJM_SPLAT_VARIANT=$v $extra" "build-splat$v/jetmesh" >/dev/null
   "build-splat$v/jetmesh" convert "$in" -r 0.025 --field sph --method mc -o "$tmp/v$v.obj" -q
   if cmp -s "$tmp/auto.obj" "$tmp/v$v.obj"; then
     echo "variant $v: identical ($(grep -c '^f ' "$tmp/v$v.obj") triangles)"
@@ -23,4 +28,7 @@ for v in 1 2 3; do
   "build-splat$v/jetmesh" convert "$in" -r 0.025 --field sph --anisotropic --method mc -o "$tmp/aniso$v.obj" -q
   cmp -s "$tmp/aniso.obj" "$tmp/aniso$v.obj" || { echo "variant $v: the anisotropic runs differ"; exit 1; }
   echo "variant $v: anisotropic identical"
+  "build-splat$v/jetmesh" convert "$in" -r 0.025 $smooth -o "$tmp/smooth$v.ply" -q
+  cmp -s "$tmp/smooth.ply" "$tmp/smooth$v.ply" || { echo "variant $v: the smoothed runs differ"; exit 1; }
+  echo "variant $v: smoothed identical"
 done
