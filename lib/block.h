@@ -40,6 +40,7 @@ typedef struct jm_scratch {
     uint32_t *order;          /* sph: vertices sorted by part of the block */
     size_t cap_order;
     jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
+    jm_an_cand an_cand;       /* sph anisotropic: the kernels reaching the block */
     jm_probe probe;           /* metasphere: the vertices' edges, checked on every piece */
     float *part;              /* sph culling: (B+1)^2 * JM_PAD(B+1) partial sums (splat.h) */
     uint8_t *span;            /* sph culling: 2 per node row, the nodes to sample (cull.h) */
