@@ -2,7 +2,6 @@
 #include "anisotropy.h"
 #include "sym3.h"
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,7 +11,7 @@
 /* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
  * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_AN_CLONES __attribute__((target_clones("avx2", "default")))
+#define JM_AN_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
 #else
 #define JM_AN_CLONES
 #endif
@@ -77,6 +76,11 @@ void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, flo
         /* a hair wider than the ellipsoid: float rounding of M */
         out[10 + ax] = (float)(2.0 * h * sqrt(e2) * (1.0 + 1e-5));
     }
+    /* 1 / (h s_max), the square root of M's least eigenvalue, lowered by
+     * 16 kappa u for the float rounding of M and of q (aniso_cull.c, 2) */
+    const double smax = fmax(s[0], fmax(s[1], s[2])), smin = fmin(s[0], fmin(s[1], s[2]));
+    const double kappa = (smax / smin) * (smax / smin);
+    out[13] = (float)(1.0 / (h * smax) * (1.0 - 16.0 * kappa * 0x1p-24));
 }
 
 typedef struct an_job {
@@ -84,6 +88,7 @@ typedef struct an_job {
     const jm_config *c;
     jm_mem *mem;
     int range;       /* cells each side holding the neighbourhood */
+    const float *X, *Y, *Z; /* the sorted particles' coordinates, one array each */
     float **soa;     /* per worker: the neighbourhood of a cell as x[], y[], z[] */
     size_t *soa_cap; /* per worker: floats per coordinate array */
     int failed;
@@ -101,23 +106,27 @@ JM_AN_CLONES static void an_cell(void *arg, size_t ci, int worker)
     const int32_t *cc = &g->cell_coord[3 * ci];
     const int rg = job->range;
     size_t m = 0;
+    /* the cells around, found on the first pass (up to 7^3 kept) */
+    uint32_t near[343];
+    const int keep = 2 * rg + 1 <= 7;
     for (int pass = 0; pass < 2; pass++) {
         size_t t = 0;
+        int e = 0;
         float *xs = job->soa[worker], *ys = xs + job->soa_cap[worker], *zs = ys + job->soa_cap[worker];
         for (int dz = -rg; dz <= rg; dz++)
             for (int dy = -rg; dy <= rg; dy++)
-                for (int dx = -rg; dx <= rg; dx++) {
-                    uint32_t nc = jm_grid_cell(g, (int64_t)cc[0] + dx, (int64_t)cc[1] + dy, (int64_t)cc[2] + dz);
+                for (int dx = -rg; dx <= rg; dx++, e++) {
+                    uint32_t nc = pass && keep ? near[e]
+                                               : jm_grid_cell(g, (int64_t)cc[0] + dx, (int64_t)cc[1] + dy, (int64_t)cc[2] + dz);
+                    if (keep) near[e] = nc;
                     if (nc == UINT32_MAX) continue;
-                    if (pass == 0) {
-                        t += g->cell_start[nc + 1] - g->cell_start[nc];
-                        continue;
+                    const uint32_t j0 = g->cell_start[nc], k = g->cell_start[nc + 1] - j0;
+                    if (pass == 1) {
+                        memcpy(xs + t, job->X + j0, k * sizeof *xs);
+                        memcpy(ys + t, job->Y + j0, k * sizeof *ys);
+                        memcpy(zs + t, job->Z + j0, k * sizeof *zs);
                     }
-                    for (uint32_t j = g->cell_start[nc]; j < g->cell_start[nc + 1]; j++, t++) {
-                        xs[t] = g->pos[3 * (size_t)j];
-                        ys[t] = g->pos[3 * (size_t)j + 1];
-                        zs[t] = g->pos[3 * (size_t)j + 2];
-                    }
+                    t += k;
                 }
         if (pass == 0) {
             m = t;
@@ -191,12 +200,25 @@ jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config
     g->an = jm_alloc(mem, (g->n ? g->n : 1) * JM_AN_STRIDE * sizeof(float));
     if (!g->an) return JM_E_OUT_OF_MEMORY;
     int nt = jm_pool_threads(pool);
-    an_job job = {g, c, mem, (int)ceilf(c->an_radius * g->inv_cell), NULL, NULL, 0};
+    an_job job = {g, c, mem, (int)ceilf(c->an_radius * g->inv_cell), NULL, NULL, NULL, NULL, NULL, 0};
     if (job.range < 1) job.range = 1;
+    const size_t np = g->n ? g->n : 1;
+    float *xyz = jm_alloc(mem, 3 * np * sizeof *xyz);
+    if (xyz) {
+        for (size_t i = 0; i < g->n; i++) {
+            xyz[i] = g->pos[3 * i];
+            xyz[np + i] = g->pos[3 * i + 1];
+            xyz[2 * np + i] = g->pos[3 * i + 2];
+        }
+        job.X = xyz;
+        job.Y = xyz + np;
+        job.Z = xyz + 2 * np;
+    }
     job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);
     job.soa_cap = jm_calloc(mem, (size_t)nt, sizeof *job.soa_cap);
-    if (job.soa && job.soa_cap) jm_pool_run(pool, g->ncells, 16, an_cell, &job);
+    if (xyz && job.soa && job.soa_cap) jm_pool_run(pool, g->ncells, 16, an_cell, &job);
     else job.failed = 1;
+    if (xyz) jm_free(mem, xyz, 3 * np * sizeof *xyz);
     if (job.soa && job.soa_cap)
         for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 3 * job.soa_cap[w] * sizeof(float));
     if (job.soa) jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
@@ -219,174 +241,51 @@ jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config
 }
 
 
-/* row[i] += amp w(sqrt(max((m00 dx + 2B) dx + C, 0))), dx = xp[i] - cx, for
- * i in [a, b), b - a a multiple of 8 (lanes past the chord add exact zeros):
- * plain C, SSE2 and AVX2 doing the same IEEE operations in the same order */
-#define AN_ROW_ARGS float *restrict row, const float *restrict xp, int a, int b, float cx, float m00, float B2, float C, float amp
-static inline __attribute__((always_inline)) void an_row_c(AN_ROW_ARGS)
+int jm_aniso_candidates(const jm_grid *g, const jm_hood *hood, const float lo[3], const float hi[3], float margin,
+                        jm_an_cand *out)
 {
-    for (int i = a; i < b; i++) {
-        const float dx = xp[i] - cx;
-        float q2 = (m00 * dx + B2) * dx + C;
-        q2 = q2 > 0.0f ? q2 : 0.0f;
-        const float q = sqrtf(q2);
-        float A = 2.0f - q, Bq = 1.0f - q;
-        A = A > 0.0f ? A : 0.0f;
-        Bq = Bq > 0.0f ? Bq : 0.0f;
-        row[i] = row[i] + amp * (0.25f * A * A * A - Bq * Bq * Bq);
+    const float x0 = lo[0] - margin, x1 = hi[0] + margin, y0 = lo[1] - margin, y1 = hi[1] + margin;
+    const float z0 = lo[2] - margin, z1 = hi[2] + margin;
+    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    if (hood->particles > out->cap) {
+        uint32_t *b = jm_realloc(out->mem, out->idx, out->cap * sizeof *b, hood->particles * sizeof *b);
+        if (!b) return 0;
+        out->idx = b;
+        out->cap = hood->particles;
     }
-}
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-static inline __attribute__((always_inline)) void an_row_sse2(AN_ROW_ARGS)
-{
-    const __m128 vc = _mm_set1_ps(cx), vm = _mm_set1_ps(m00), vb = _mm_set1_ps(B2), vC = _mm_set1_ps(C);
-    const __m128 va = _mm_set1_ps(amp), two = _mm_set1_ps(2.0f), one = _mm_set1_ps(1.0f);
-    const __m128 zero = _mm_setzero_ps(), quarter = _mm_set1_ps(0.25f);
-    for (int i = a; i < b; i += 4) {
-        __m128 dx = _mm_sub_ps(_mm_loadu_ps(xp + i), vc);
-        __m128 q2 = _mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(vm, dx), vb), dx), vC);
-        __m128 q = _mm_sqrt_ps(_mm_max_ps(q2, zero));
-        __m128 A = _mm_max_ps(_mm_sub_ps(two, q), zero), B = _mm_max_ps(_mm_sub_ps(one, q), zero);
-        __m128 w = _mm_sub_ps(_mm_mul_ps(_mm_mul_ps(_mm_mul_ps(quarter, A), A), A), _mm_mul_ps(_mm_mul_ps(B, B), B));
-        _mm_storeu_ps(row + i, _mm_add_ps(_mm_loadu_ps(row + i), _mm_mul_ps(va, w)));
-    }
-}
-__attribute__((target("avx2"))) static inline __attribute__((always_inline)) void an_row_avx2(AN_ROW_ARGS)
-{
-    const __m256 vc = _mm256_set1_ps(cx), vm = _mm256_set1_ps(m00), vb = _mm256_set1_ps(B2), vC = _mm256_set1_ps(C);
-    const __m256 va = _mm256_set1_ps(amp), two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f);
-    const __m256 zero = _mm256_setzero_ps(), quarter = _mm256_set1_ps(0.25f);
-    for (int i = a; i < b; i += 8) {
-        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vc);
-        __m256 q2 = _mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(vm, dx), vb), dx), vC);
-        __m256 q = _mm256_sqrt_ps(_mm256_max_ps(q2, zero));
-        __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero), B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
-        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
-                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
-        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(va, w)));
-    }
-}
-#endif
-
-typedef void (*an_row_fn)(AN_ROW_ARGS);
-
-#define AN_SAMPLE_ARGS                                                                                       \
-    const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
-        int n, float *pad
-/* the sampling loop, inlined into each variant with its row function */
-static inline __attribute__((always_inline)) void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn)
-{
-    const int ns = JM_PAD(n);
-    const float inv_h = c->inv_h, h = c->h;
-    float xp[JM_PAD_MAX];
-    for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;
-    memset(pad, 0, (size_t)n * n * ns * sizeof *pad);
-    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    size_t m = 0;
     for (size_t k = 0; k < cells; k++)
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
             const float *a = AN(g, p);
-            const float cx = a[0], cy = a[1], cz = a[2];
-            if (cx + a[10] < x[0] || cx - a[10] > x[n - 1] || cy + a[11] < y[0] || cy - a[11] > y[n - 1] ||
-                cz + a[12] < z[0] || cz - a[12] > z[n - 1] || g->isolated[p])
+            if (a[0] + a[10] < x0 || a[0] - a[10] > x1 || a[1] + a[11] < y0 || a[1] - a[11] > y1 || a[2] + a[12] < z0 ||
+                a[2] - a[12] > z1 || g->isolated[p])
                 continue;
-            const float m00 = a[3], m01 = a[4], m02 = a[5], m11 = a[6], m12 = a[7], m22 = a[8], amp = a[9];
-            /* in a slab dz the rows dy cut the ellipsoid where
-             * Py dy^2 + 2 Qy dz dy + Rz dz^2 < 4 (x eliminated) */
-            const float i00 = 1.0f / m00, sc = inv_h * i00, four00 = 4.0f * m00;
-            const float Py = m11 - m01 * m01 * i00, Qy = m12 - m01 * m02 * i00, Rz = m22 - m02 * m02 * i00;
-            const float iPy = 1.0f / Py, ccx = (cx - x[0]) * inv_h, ccy = (cy - y[0]) * inv_h;
-            int k0, k1;
-            node_span(z, n, inv_h, cz - a[12], cz + a[12], &k0, &k1);
-            for (int kk = k0; kk < k1; kk++) {
-                const float dz = z[kk] - cz;
-                const float qd = Qy * dz, dy_disc = qd * qd - Py * (Rz * dz * dz - 4.0f);
-                if (!(dy_disc > 0.0f)) continue;
-                const float sy = sqrtf(dy_disc);
-                /* the rows, as the chords below: indices from the spacing,
-                 * a hundredth of a node of slack */
-                int j0 = iceil(ccy + (-qd - sy) * iPy * inv_h - 0.01f), j1 = ifloor(ccy + (sy - qd) * iPy * inv_h + 0.01f) + 1;
-                j0 = j0 > 0 ? j0 : 0;
-                j1 = j1 < n ? j1 : n;
-                const float Bz = m02 * dz, Cy = 2.0f * m12 * dz, Cz = m22 * dz * dz;
-                float *slab = pad + (size_t)kk * n * ns;
-                for (int jj = j0; jj < j1; jj++) {
-                    const float dy = y[jj] - cy;
-                    /* q^2 = m00 dx^2 + 2 B dx + C along the row: the chord
-                     * where it is under 4 */
-                    const float B = m01 * dy + Bz, C = (m11 * dy + Cy) * dy + Cz;
-                    const float disc = B * B - m00 * C + four00;
-                    if (!(disc > 0.0f)) continue;
-                    const float sq = sqrtf(disc);
-                    /* a hundredth of a node of slack each side: the chord's
-                     * ends are good to about 1e-5 nodes unless the row barely
-                     * touches the ellipsoid, where w is under 1e-12 anyway */
-                    int i0 = iceil(ccx - (B + sq) * sc - 0.01f), i1 = ifloor(ccx + (sq - B) * sc + 0.01f) + 1;
-                    i0 = i0 > 0 ? i0 : 0;
-                    i1 = i1 < n ? i1 : n;
-                    if (i0 >= i1) continue;
-                    row_fn(slab + (size_t)jj * ns, xp, i0, i0 + ((i1 - i0 + 7) & ~7), cx, m00, 2.0f * B, C, amp);
-                }
-            }
+            out->idx[m++] = p;
         }
+    out->n = m;
+    return 1;
 }
 
-static void an_sample_c(AN_SAMPLE_ARGS) { an_sample(g, c, hood, x, y, z, n, pad, an_row_c); }
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-static void an_sample_sse2(AN_SAMPLE_ARGS) { an_sample(g, c, hood, x, y, z, n, pad, an_row_sse2); }
-__attribute__((target("avx2"))) static void an_sample_avx2(AN_SAMPLE_ARGS)
+void jm_aniso_gather(const jm_grid *g, const jm_an_cand *cand, const float lo[3], const float hi[3], jm_an_list *out)
 {
-    an_sample(g, c, hood, x, y, z, n, pad, an_row_avx2);
-}
-#endif
-
-typedef void (*an_sample_fn)(AN_SAMPLE_ARGS);
-static an_sample_fn an_chosen;
-static pthread_once_t an_once = PTHREAD_ONCE_INIT;
-/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest the
- * CPU runs, 1 plain C, 2 SSE2 */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-static void an_choose(void)
-{
-    an_chosen = an_sample_c;
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    __builtin_cpu_init();
-    an_chosen = __builtin_cpu_supports("avx2") ? an_sample_avx2 : an_sample_sse2;
-    if (JM_SPLAT_VARIANT == 1) an_chosen = an_sample_c;
-    if (JM_SPLAT_VARIANT == 2) an_chosen = an_sample_sse2;
-#endif
-}
-
-void jm_aniso_sample(AN_SAMPLE_ARGS)
-{
-    pthread_once(&an_once, an_choose);
-    an_chosen(g, c, hood, x, y, z, n, pad);
-}
-
-void jm_aniso_gather(const jm_grid *g, const jm_hood *hood, const float lo[3], const float hi[3], jm_an_list *out)
-{
-    size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     out->n = 0;
-    for (size_t k = 0; k < cells; k++)
-        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
-            const float *a = AN(g, p);
-            if (a[0] + a[10] < lo[0] || a[0] - a[10] > hi[0] || a[1] + a[11] < lo[1] || a[1] - a[11] > hi[1] ||
-                a[2] + a[12] < lo[2] || a[2] - a[12] > hi[2] || g->isolated[p])
-                continue;
-            if (out->n + 8 > out->cap) {
-                size_t nc = out->cap ? out->cap * 2 : 1024;
-                float *b = jm_realloc(out->mem, out->buf, 10 * out->cap * sizeof *b, 10 * nc * sizeof *b);
-                if (!b) { out->n = SIZE_MAX; return; }
-                out->buf = b;
-                out->cap = nc;
-            }
-            float *b = out->buf + 10 * (out->n & ~(size_t)7) + (out->n & 7);
-            for (int f = 0; f < 10; f++) b[8 * f] = a[f];
-            out->n++;
+    for (size_t i = 0; i < cand->n; i++) {
+        const uint32_t p = cand->idx[i];
+        const float *a = AN(g, p);
+        if (a[0] + a[10] < lo[0] || a[0] - a[10] > hi[0] || a[1] + a[11] < lo[1] || a[1] - a[11] > hi[1] ||
+            a[2] + a[12] < lo[2] || a[2] - a[12] > hi[2])
+            continue;
+        if (out->n + 8 > out->cap) {
+            size_t nc = out->cap ? out->cap * 2 : 1024;
+            float *b = jm_realloc(out->mem, out->buf, 10 * out->cap * sizeof *b, 10 * nc * sizeof *b);
+            if (!b) { out->n = SIZE_MAX; return; }
+            out->buf = b;
+            out->cap = nc;
         }
+        float *b = out->buf + 10 * (out->n & ~(size_t)7) + (out->n & 7);
+        for (int f = 0; f < 10; f++) b[8 * f] = a[f];
+        out->n++;
+    }
     /* pad the last group of 8 with weightless kernels far away */
     for (size_t m = out->n; m & 7; m++) {
         float *b = out->buf + 10 * (m & ~(size_t)7) + (m & 7);

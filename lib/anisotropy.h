@@ -8,8 +8,11 @@
  *   [3..8]   M = G^T G (m00, m01, m02, m11, m12, m22), world^-2: the kernel
  *            argument is q = sqrt(d^T M d), d = x - cbar, support q < 2
  *   [9]      amp = V_j h^3 det(G): the particle's weight on the cubic w(q)
- *   [10..12] half-sides of the box around cbar holding the ellipsoid q < 2 */
-#define JM_AN_STRIDE 13
+ *   [10..12] half-sides of the box around cbar holding the ellipsoid q < 2
+ *   [13]     gmin: at most the float q the splat computes at any point x,
+ *            divided by |x - cbar| (its smallest axis scale, less the float
+ *            slack proven in aniso_cull.c) */
+#define JM_AN_STRIDE 14
 
 /* Accumulates one particle's neighbourhood (itself included) for the
  * weighted mean and covariance, in double, relative to the particle (the
@@ -44,12 +47,18 @@ void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, flo
 jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c);
 void jm_aniso_free(jm_grid *g, jm_mem *mem);
 
-/* Samples the anisotropic field on the n^3 nodes into pad (n * n rows of
- * JM_PAD(n) floats, as jm_sph_sample). Each node sums its particles in the
- * global order of the grid's cells (nodes outside a kernel add exact
- * zeros), so a node shared by two blocks gets the same bits. */
-void jm_aniso_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
-                     const float *z, int n, float *pad);
+/* The kernels (not isolated) whose box reaches a block's box [lo, hi]
+ * widened by margin, as sorted particle indices in the hood's order: what
+ * the block's sampling, culling and normals look at (each with its own
+ * test on top, so the same kernels in the same order as over the hood). */
+typedef struct jm_an_cand {
+    uint32_t *idx;
+    size_t n, cap; /* kernels, capacity */
+    jm_mem *mem;   /* counts idx (NULL: uncounted) */
+} jm_an_cand;
+/* 0 if out of memory */
+int jm_aniso_candidates(const jm_grid *g, const jm_hood *hood, const float lo[3], const float hi[3], float margin,
+                        jm_an_cand *out);
 
 /* The kernels reaching the box [lo, hi], for normals: groups of 8, each
  * JM_AN_GROUP floats (centre x8, y8, z8, m00 x8 ... m22 x8, amp x8). */
@@ -59,7 +68,8 @@ typedef struct jm_an_list {
     size_t n, cap; /* kernels (n = SIZE_MAX: out of memory), capacity */
     jm_mem *mem;   /* counts buf (NULL: uncounted) */
 } jm_an_list;
-void jm_aniso_gather(const jm_grid *g, const jm_hood *hood, const float lo[3], const float hi[3], jm_an_list *out);
+/* From the candidates of a block whose widened box holds [lo, hi]. */
+void jm_aniso_gather(const jm_grid *g, const jm_an_cand *cand, const float lo[3], const float hi[3], jm_an_list *out);
 /* Outward unit normal at p: minus the field's gradient over the gathered
  * kernels; 0 if it vanishes (nrm untouched). */
 int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3]);

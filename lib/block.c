@@ -1,5 +1,7 @@
 /* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
 #include "block.h"
+#include "aniso_cull.h"
+#include "aniso_splat.h"
 #include "cull.h"
 #include "metavertex.h"
 #include "splat.h"
@@ -58,6 +60,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->soa.buf);
     free(s->order);
     free(s->an_list.buf);
+    free(s->an_cand.idx);
     jm_probe_free(&s->probe);
     jm_mnorm_free(&s->mnorm);
     free(s->part);
@@ -269,7 +272,7 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
             phi[a] += 0.01f * c->support;
         }
         if (c->aniso) {
-            jm_aniso_gather(g, &s->hood, plo, phi, &s->an_list);
+            jm_aniso_gather(g, &s->an_cand, plo, phi, &s->an_list);
             if (s->an_list.n == SIZE_MAX) return 0;
             for (uint32_t k = start[q]; k < start[q + 1]; k++) {
                 uint32_t v = s->order[k];
@@ -348,8 +351,15 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t0 = jm_now_ms();
     if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
+    /* anisotropic kernels: the ones reaching the block (and the normals'
+     * part boxes, a hundredth of a support wider), looked at from here on */
+    if (c->aniso && !jm_aniso_candidates(g, &s->hood, lo, hi, 0.02f * c->support, &s->an_cand)) {
+        out->failed = 1;
+        return;
+    }
     size_t inner = 0;
-    if (c->cull && jm_sph_block_outside(g, c, &s->hood, lo, hi, &inner)) {
+    if (c->cull && (c->aniso ? jm_aniso_block_outside(g, c, &s->an_cand, lo, hi, &inner)
+                             : jm_sph_block_outside(g, c, &s->hood, lo, hi, &inner))) {
         /* proven to hold no inside node (cull.c): sampling would find none
          * and return here below, with nothing to mesh */
         out->t_field = jm_now_ms() - t0;
@@ -359,17 +369,23 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     const float *fv;
     const uint8_t *span = NULL;
     if (c->cull && jm_sph_block_full(c, inner, lo, hi)) {
-        /* the isotropic SPH field, a block inside the fluid: partial sums
-         * prove most nodes inside; only the nodes next to the others are
-         * sampled (cull.c) */
-        jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
+        /* the SPH field, a block inside the fluid: partial sums prove most
+         * nodes inside; only the nodes next to the others are sampled
+         * (cull.c, aniso_cull.c) */
+        if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
+        else jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
         size_t keep = jm_sph_spans(s->part, n, c->threshold, s->span);
         if (keep == 0) {
             out->t_field = jm_now_ms() - t0;
             return; /* every node inside */
         }
         if (keep < (size_t)n * n * n) span = s->span;
-        jm_sph_sample(g, c, &s->hood, s->x, s->y, s->z, n, span, s->pad);
+        if (c->aniso) jm_aniso_sample(g, c, &s->an_cand, s->x, s->y, s->z, n, span, s->pad);
+        else jm_sph_sample(g, c, &s->hood, s->x, s->y, s->z, n, span, s->pad);
+        fv = s->pad;
+        fs = JM_PAD(n);
+    } else if (c->aniso) {
+        jm_aniso_sample(g, c, &s->an_cand, s->x, s->y, s->z, n, NULL, s->pad);
         fv = s->pad;
         fs = JM_PAD(n);
     } else {

@@ -41,6 +41,7 @@ typedef struct jm_scratch {
     uint32_t *order;          /* sph: vertices sorted by part of the block */
     size_t cap_order;
     jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
+    jm_an_cand an_cand;       /* sph anisotropic: the kernels reaching the block */
     jm_probe probe;           /* metasphere: the vertices' edges, checked on every piece */
     jm_mnorm mnorm;           /* metasphere: the vertices' crease normals (metanormal.h) */
     float *part;              /* sph culling: (B+1)^2 * JM_PAD(B+1) partial sums (splat.h) */

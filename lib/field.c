@@ -1,7 +1,6 @@
 /* field.c - the metasphere and SPH fields: splatting onto block nodes, gradients at points. */
 #include "field.h"
 #include "splat.h"
-#include "anisotropy.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -229,11 +228,6 @@ const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood
                              const float *y, const float *z, int n, float *f, uint32_t *win, float *pad,
                              size_t *out_stride)
 {
-    if (c->field == JM_FIELD_SPH && c->aniso) {
-        jm_aniso_sample(g, c, hood, x, y, z, n, pad);
-        *out_stride = JM_PAD(n);
-        return pad;
-    }
     if (c->field == JM_FIELD_SPH) {
         jm_sph_sample(g, c, hood, x, y, z, n, NULL, pad);
         *out_stride = JM_PAD(n);

@@ -51,7 +51,8 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
 
 /* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) and returns the
  * values: node (i, j, k) at [(k n + j) *out_stride + i] (in f for the
- * metasphere, stride n; in pad for SPH, stride JM_PAD(n)).
+ * metasphere, stride n; in pad for SPH, stride JM_PAD(n); the anisotropic
+ * kernels: aniso_splat.h).
  * Metasphere: win[node] (stride n) receives the primitive that gave the
  * node's value (UINT32_MAX where clamped); see jm_prim_eval. */
 const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,

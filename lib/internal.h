@@ -87,7 +87,7 @@ typedef struct jm_config {
      * particle coordinates are multiplied by unit_in = 2^-unit as they are read */
     int unit;
     float unit_in;
-    int cull;          /* sph isotropic: skip blocks proven outside (cull.c) */
+    int cull;          /* sph: skip blocks proven outside, nodes proven inside (cull.c, aniso_cull.c) */
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

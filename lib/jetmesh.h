@@ -89,8 +89,10 @@
  *     template (this same kernel, alone).
  * The sampled band reaches as far as the frame's widest kernel (its box
  * around cbar), so culling stays exact and the mesh closed; normals are the
- * gradient of this field. Cost: about 1.5-2 times the isotropic field, and
- * 52 more bytes per particle.
+ * gradient of this field. Blocks are culled as for the isotropic field
+ * (no_culling), each kernel bounded over a block by its smallest axis and
+ * its box. Cost: under 2 times the isotropic field (the 100k block, one
+ * thread), and 56 more bytes per particle.
  *
  * ----------------------------------------------------------------------
  * Extraction: a global lattice of cubes of edge params.cube_size * r, with

@@ -59,7 +59,7 @@ static void drop_template(jm_context *ctx)
 static size_t scratch_grown(const jm_scratch *s)
 {
     return s->hood.cap * 2 * sizeof(uint32_t) + s->soa.cap * 4 * sizeof(float) + s->cap_order * sizeof(uint32_t) +
-           s->an_list.cap * 10 * sizeof(float);
+           s->an_list.cap * 10 * sizeof(float) + s->an_cand.cap * sizeof(uint32_t);
 }
 
 static void drop_scratch(jm_context *ctx)
@@ -422,6 +422,7 @@ static jm_status ensure_scratch(jm_context *ctx)
         /* the buffers that grow with the blocks, counted as they grow */
         jm_scratch *sc = &ctx->scratch[i];
         sc->hood.mem = sc->soa.mem = sc->an_list.mem = sc->probe.mem = sc->mnorm.mem = &ctx->mem;
+        sc->an_cand.mem = &ctx->mem;
     }
     ctx->nscratch = ctx->threads;
     return JM_OK;

@@ -113,7 +113,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->simplify_error = p.simplify_error * r;
     c->unit_in = 1.0f; /* mesh.c sets the unit (units.h) */
     if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);
-    c->cull = p.field == JM_FIELD_SPH && !c->aniso && !p.no_culling;
+    c->cull = p.field == JM_FIELD_SPH && !p.no_culling;
     if (f) *f = p;
     return JM_OK;
 }

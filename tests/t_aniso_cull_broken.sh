@@ -1,0 +1,23 @@
+#!/bin/sh
+# t_aniso_cull_broken.sh - test_aniso_cull fails when the anisotropic culling is deliberately broken (a block bound too low, partial sums too high).
+set -u
+root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
+B=${JETMESH_BUILD:-$root/build}
+cd "$root" || exit 1
+[ -f "$B/tests/test_aniso_cull.o" ] && [ -f "$B/libjetmesh.a" ] || { echo "FAIL: build first (make tests-build)"; exit 1; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+CC=${CC:-cc}
+flags="-std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -fno-math-errno -fno-trapping-math -pthread"
+# each broken object replaces the library's own (the linker takes an archive
+# member only for symbols still undefined)
+for brk in 1 2; do
+  src=lib/aniso_cull.c; [ "$brk" = 2 ] && src=lib/aniso_splat.c
+  $CC $flags -DJM_AN_CULL_BREAK=$brk -c "$src" -o "$tmp/broken$brk.o" || { echo "FAIL: compiling $src"; exit 1; }
+  $CC -o "$tmp/t$brk" "$B/tests/test_aniso_cull.o" "$B"/tests/util/*.o "$tmp/broken$brk.o" "$B/libjetmesh_formats.a" \
+      "$B/libjetmesh.a" -lcmocka -ltinygltf -ldraco -lz -lmeshoptimizer -lstdc++ -lm -pthread || { echo "FAIL: linking"; exit 1; }
+  if "$tmp/t$brk" >"$tmp/out$brk" 2>&1; then
+    echo "FAIL: break $brk ($src) went unnoticed by test_aniso_cull"; exit 1
+  fi
+  grep -q "FAILED" "$tmp/out$brk" || { cat "$tmp/out$brk"; echo "FAIL: break $brk: no failed test"; exit 1; }
+  echo "break $brk ($src): test_aniso_cull fails, as it must ($(grep -c '^\[  FAILED  \]\|^\[  ERROR   \]' "$tmp/out$brk") lines)"
+done
