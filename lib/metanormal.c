@@ -231,6 +231,29 @@ __attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3]
 #endif
 
 
+/* the pieces' weighted gradients onto the vertices, eight at a time
+ * where the CPU runs AVX2 (the same bits) */
+static void normal_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
+{
+#ifdef HAVE_AVX2_NORMALS
+    if (wide) {
+        ball8(ctx, lo, hi, q);
+        return;
+    }
+#endif
+    ball_c(ctx, lo, hi, q);
+}
+static void normal_link(void *ctx, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
+{
+#ifdef HAVE_AVX2_NORMALS
+    if (wide) {
+        link8(ctx, lo, hi, q, u, D, rr2);
+        return;
+    }
+#endif
+    link_c(ctx, lo, hi, q, u, D, rr2);
+}
+
 int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
                     const float *x, const float *y, const float *z, const float *pos, float *nrm, size_t nv)
 {
@@ -249,54 +272,13 @@ int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, j
     }
     memset(m->acc, 0, ns * 3 * sizeof(float));
     pass P = {pr->px, pr->py, pr->pz, m->acc, m->acc + ns, m->acc + 2 * ns, ns, pr->pstart,
-                    jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau, 1.0f / c->r, 0.0f};
+              jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau, 1.0f / c->r, 0.0f};
     /* a piece comes within tau of the threshold only within rb of its
      * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
     const float rb = c->r * (1.0f - (c->threshold - c->mv_tau)) + 1e-3f * c->r, rb2 = rb * rb;
     P.rb2 = rb2;
-    const float x0[3] = {x[0], y[0], z[0]};
-    const double inv_hd = 1.0 / (double)c->h;
-    const float blo[3] = {x[0] - c->influence, y[0] - c->influence, z[0] - c->influence};
-    const float bhi[3] = {x[B] + c->influence, y[B] + c->influence, z[B] + c->influence};
-    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
-    for (size_t cell = 0; cell < cells; cell++)
-        for (uint32_t p = hood->range[2 * cell]; p < hood->range[2 * cell + 1]; p++) {
-            const float *q = &g->pos[3 * (size_t)p];
-            if (q[0] < blo[0] || q[0] > bhi[0] || q[1] < blo[1] || q[1] > bhi[1] || q[2] < blo[2] || q[2] > bhi[2])
-                continue;
-            if (g->isolated[p]) continue;
-            int lo[3], hi[3];
-            float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
-            if (jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
-#ifdef HAVE_AVX2_NORMALS
-                if (wide)
-                    ball8(&P, lo, hi, q);
-                else
-#endif
-                    ball_c(&P, lo, hi, q);
-            }
-            for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
-                /* each link once, from its lower end (or from this end
-                 * when the other lies outside the box) */
-                const uint32_t mi = g->nb[e];
-                const float *qm = &g->pos[3 * (size_t)mi];
-                if (mi < p && !(qm[0] < blo[0] || qm[0] > bhi[0] || qm[1] < blo[1] || qm[1] > bhi[1] ||
-                                qm[2] < blo[2] || qm[2] > bhi[2]))
-                    continue;
-                const float *u = &g->nb_dir[4 * (size_t)e];
-                for (int a = 0; a < 3; a++) {
-                    l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rb;
-                    h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rb;
-                }
-                if (!jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
-#ifdef HAVE_AVX2_NORMALS
-                if (wide)
-                    link8(&P, lo, hi, q, u, u[3], rb2);
-                else
-#endif
-                    link_c(&P, lo, hi, q, u, u[3], rb2);
-            }
-        }
+    const jm_piece_visitor vis = {rb, rb, normal_ball, normal_link, &P};
+    jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
     for (size_t w = 0; w < nv; w++) {
         float a0 = P.ax[w], a1 = P.ay[w], a2 = P.az[w];
         float len = sqrtf(a0 * a0 + a1 * a1 + a2 * a2);

@@ -283,6 +283,71 @@ static void edge_of(uint32_t slot, size_t sn, const float *x, const float *y, co
     ab[2] = z[ijk[2] + d[2]] - a[2];
 }
 
+void jm_probe_pieces(const jm_grid *g, const jm_config *c, const jm_hood *hood, int B, const float *x, const float *y,
+                     const float *z, const jm_piece_visitor *v)
+{
+    const float x0[3] = {x[0], y[0], z[0]};
+    const double inv_hd = 1.0 / (double)c->h;
+    const float rb = v->rb, neck_len = 1.5707f * c->r;
+    const float blo[3] = {x[0] - c->influence, y[0] - c->influence, z[0] - c->influence};
+    const float bhi[3] = {x[B] + c->influence, y[B] + c->influence, z[B] + c->influence};
+    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    for (size_t cell = 0; cell < cells; cell++)
+        for (uint32_t p = hood->range[2 * cell]; p < hood->range[2 * cell + 1]; p++) {
+            const float *q = &g->pos[3 * (size_t)p];
+            if (q[0] < blo[0] || q[0] > bhi[0] || q[1] < blo[1] || q[1] > bhi[1] || q[2] < blo[2] || q[2] > bhi[2])
+                continue;
+            if (g->isolated[p]) continue;
+            int lo[3], hi[3];
+            float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
+            if (jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) v->ball(v->ctx, lo, hi, q);
+            for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
+                const uint32_t m = g->nb[e];
+                const float *qm = &g->pos[3 * (size_t)m];
+                if (m < p && !(qm[0] < blo[0] || qm[0] > bhi[0] || qm[1] < blo[1] || qm[1] > bhi[1] ||
+                               qm[2] < blo[2] || qm[2] > bhi[2]))
+                    continue;
+                const float *u = &g->nb_dir[4 * (size_t)e];
+                const float rr = 0.5f * u[3] <= neck_len ? v->rn : rb;
+                for (int a = 0; a < 3; a++) {
+                    l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rr;
+                    h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rr;
+                }
+                if (jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) v->link(v->ctx, lo, hi, q, u, u[3], rr * rr);
+            }
+        }
+}
+
+/* the probe's pieces: the largest value at each vertex */
+typedef struct probe_ctx {
+    const rows *R;
+    const uint32_t *ps;
+    int np;
+    float inv_r;
+} probe_ctx;
+static void probe_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
+{
+    const probe_ctx *k = ctx;
+#ifdef HAVE_AVX2_PROBE
+    if (wide) {
+        splat_ball8(k->R, k->ps, k->np, lo, hi, q, k->inv_r);
+        return;
+    }
+#endif
+    splat_ball(k->R, k->ps, k->np, lo, hi, q, k->inv_r);
+}
+static void probe_link(void *ctx, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
+{
+    const probe_ctx *k = ctx;
+#ifdef HAVE_AVX2_PROBE
+    if (wide) {
+        splat_link8(k->R, k->ps, k->np, lo, hi, q, u, D, rr2, k->inv_r);
+        return;
+    }
+#endif
+    splat_link(k->R, k->ps, k->np, lo, hi, q, u, D, rr2, k->inv_r);
+}
+
 int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, int B, const float *x,
                   const float *y, const float *z, const float *f, float *pos, const uint32_t *cand, size_t nv)
 {
@@ -333,54 +398,11 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
      * within as much of its axis; and up to pi/2 r along its axis a
      * half-neck beats its own ball only closer than r to the axis (see
      * field.c), where that ball holds the value */
-    const float x0[3] = {x[0], y[0], z[0]};
-    const double inv_hd = 1.0 / (double)c->h;
     const rows R = {pr->px, pr->py, pr->pz, pr->vmax, ns};
     const float slack = 1e-3f * c->r, rb = c->r * (1.0f - level) + slack;
-    const float rn = fminf(rb, 1.02f * c->r + slack), neck_len = 1.5707f * c->r;
-    const float blo[3] = {x[0] - c->influence, y[0] - c->influence, z[0] - c->influence};
-    const float bhi[3] = {x[B] + c->influence, y[B] + c->influence, z[B] + c->influence};
-    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
-    for (size_t cell = 0; cell < cells; cell++)
-        for (uint32_t p = hood->range[2 * cell]; p < hood->range[2 * cell + 1]; p++) {
-            const float *q = &g->pos[3 * (size_t)p];
-            if (q[0] < blo[0] || q[0] > bhi[0] || q[1] < blo[1] || q[1] > bhi[1] || q[2] < blo[2] || q[2] > bhi[2])
-                continue;
-            if (g->isolated[p]) continue;
-            int lo[3], hi[3];
-            float l3[3] = {q[0] - rb, q[1] - rb, q[2] - rb}, h3[3] = {q[0] + rb, q[1] + rb, q[2] + rb};
-            if (jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) {
-#ifdef HAVE_AVX2_PROBE
-                if (wide)
-                    splat_ball8(&R, ps, np, lo, hi, q, inv_r);
-                else
-#endif
-                    splat_ball(&R, ps, np, lo, hi, q, inv_r);
-            }
-            for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
-                /* both half-necks of a link at once, from its lower end
-                 * (or from this end when the other lies outside the box,
-                 * where the loop does not visit it) */
-                const uint32_t m = g->nb[e];
-                const float *qm = &g->pos[3 * (size_t)m];
-                if (m < p && !(qm[0] < blo[0] || qm[0] > bhi[0] || qm[1] < blo[1] || qm[1] > bhi[1] ||
-                               qm[2] < blo[2] || qm[2] > bhi[2]))
-                    continue;
-                const float *u = &g->nb_dir[4 * (size_t)e];
-                const float rr = 0.5f * u[3] <= neck_len ? rn : rb;
-                for (int a = 0; a < 3; a++) {
-                    l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rr;
-                    h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rr;
-                }
-                if (!jm_probe_part_span(x0, B, inv_hd, l3, h3, lo, hi)) continue;
-#ifdef HAVE_AVX2_PROBE
-                if (wide)
-                    splat_link8(&R, ps, np, lo, hi, q, u, u[3], rr * rr, inv_r);
-                else
-#endif
-                    splat_link(&R, ps, np, lo, hi, q, u, u[3], rr * rr, inv_r);
-            }
-        }
+    probe_ctx pc = {&R, ps, np, inv_r};
+    const jm_piece_visitor vis = {rb, fminf(rb, 1.02f * c->r + slack), probe_ball, probe_link, &pc};
+    jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
 
     /* the vertices off the surface, settled again on every piece there */
     for (size_t w = 0; w < nv; w++) {
