@@ -102,6 +102,7 @@
  *    again as they did over the hood: the same kernels in the same order.
  */
 #include "aniso_cull.h"
+#include "cull.h"
 #include <math.h>
 
 #ifndef JM_AN_CULL_BREAK
@@ -109,14 +110,6 @@
 #endif
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 #define AN(g, i) (&(g)->an[JM_AN_STRIDE * (size_t)(i)])
-
-static double kernel(double q)
-{
-    double a = 2.0 - q, b = 1.0 - q;
-    a = a > 0.0 ? a : 0.0;
-    b = b > 0.0 ? b : 0.0;
-    return 0.25 * a * a * a - b * b * b;
-}
 
 int jm_aniso_block_outside(const jm_grid *g, const jm_config *c, const jm_an_cand *cand, const float lo[3],
                            const float hi[3], size_t *inner)
@@ -151,7 +144,7 @@ int jm_aniso_block_outside(const jm_grid *g, const jm_config *c, const jm_an_can
         const double ql = (qg > qa ? qg : qa) * (JM_AN_CULL_BREAK == 1 ? 1.15 : 1.0);
         if (ql >= qmax) continue;
         const double amp = a[9];
-        U += amp * kernel(ql);
+        U += amp * jm_cull_kernel(ql);
         S += amp;
         m++;
         if (U >= thr || m >= 100000) open = 0; /* no proof possible */

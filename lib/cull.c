@@ -79,14 +79,6 @@
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
-static double kernel(double q)
-{
-    double a = 2.0 - q, b = 1.0 - q;
-    a = a > 0.0 ? a : 0.0;
-    b = b > 0.0 ? b : 0.0;
-    return 0.25 * a * a * a - b * b * b;
-}
-
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
                          const float hi[3], size_t *inner)
 {
@@ -120,7 +112,7 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
             }
             if (d2 >= Rn2) continue;
             const double wgt = g->weight[p];
-            U += wgt * kernel(sqrt(d2) / sph_h);
+            U += wgt * jm_cull_kernel(sqrt(d2) / sph_h);
             S += wgt;
             m++;
             if (U >= thr || m >= 100000) return 0; /* no proof possible */

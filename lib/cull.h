@@ -3,6 +3,17 @@
 #define JETMESH_CULL_H
 #include "field.h"
 
+/* The cubic spline's shape (1/4)(2-q)^3 - (1-q)^3 (each cube where its
+ * base is positive) in double, for the bounds of the culling proofs
+ * (cull.c, aniso_cull.c): evaluated with margin, never for output. */
+static inline double jm_cull_kernel(double q)
+{
+    double a = 2.0 - q, b = 1.0 - q;
+    a = a > 0.0 ? a : 0.0;
+    b = b > 0.0 ? b : 0.0;
+    return 0.25 * a * a * a - b * b * b;
+}
+
 /* A block about full of particles at the rest spacing 2r (inner of them
  * within the box [lo, hi]: 0.85 of (box volume / (2r)^3) or more) is mostly
  * inside the fluid: block.c proves its nodes inside with partial sums, and
