@@ -10,7 +10,15 @@ CC=${CC:-cc}
 flags="-std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -fno-math-errno -fno-trapping-math -pthread"
 # each broken object replaces the library's own (the linker takes an archive
 # member only for symbols still undefined)
-for brk in 1 2; do
+# break 1 (the block bound) only shows on the real frames of ../shared/data:
+# without them test_aniso_cull skips those, so only break 2 can be checked
+SHARED=${JETMESH_SHARED:-$root/../shared}
+breaks="1 2"
+if [ ! -f "$SHARED/data/splashsurf/bunny_frame_14_7705_particles.vtk" ]; then
+  echo "break 1: not checked: $SHARED/data not found (its real frames show it)"
+  breaks=2
+fi
+for brk in $breaks; do
   src=lib/aniso_cull.c; [ "$brk" = 2 ] && src=lib/aniso_splat.c
   $CC $flags -DJM_AN_CULL_BREAK=$brk -c "$src" -o "$tmp/broken$brk.o" || { echo "FAIL: compiling $src"; exit 1; }
   $CC -o "$tmp/t$brk" "$B/tests/test_aniso_cull.o" "$B"/tests/util/*.o "$tmp/broken$brk.o" "$B/libjetmesh_formats.a" \
