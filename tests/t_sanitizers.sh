@@ -8,13 +8,14 @@ make --no-print-directory -j2 BUILD=build-asan SAN="$san" OPT="-O1 -g" LIB_OPT="
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:halt_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
-for t in build-asan/bin/test_*; do
-  if "$t" >"build-asan/$(basename "$t").log" 2>&1; then
-    echo "sanitizers: $(basename "$t") ok"
-  else
-    echo "sanitizers: $(basename "$t") FAILED"; tail -n 40 "build-asan/$(basename "$t").log"; status=1
-  fi
-done
+# two binaries at a time (CI has two cores; the instrumented binaries are the
+# suite's longest part); each writes its own log, and any failure fails this
+# test: xargs exits non-zero when one of its commands does
+# shellcheck disable=SC2016 # $1 is expanded by the inner shell
+ls build-asan/bin/test_* | xargs -P 2 -n 1 sh -c '
+  log="build-asan/$(basename "$1").log"
+  if "$1" >"$log" 2>&1; then echo "sanitizers: $(basename "$1") ok"
+  else echo "sanitizers: $(basename "$1") FAILED"; tail -n 40 "$log"; exit 1; fi' sh || status=1
 # the CLI end to end under the sanitizers too: a conversion and a rejected file
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 build-asan/jetmesh convert samples/jet/jet_060.csv -r 0.025 -o "$tmp/a.glb" -q
