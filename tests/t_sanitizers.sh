@@ -12,7 +12,7 @@ status=0
 # suite's longest part); each writes its own log, and any failure fails this
 # test: xargs exits non-zero when one of its commands does
 # shellcheck disable=SC2016 # $1 is expanded by the inner shell
-ls build-asan/bin/test_* | xargs -P 2 -n 1 sh -c '
+printf '%s\n' build-asan/bin/test_* | xargs -P 2 -n 1 sh -c '
   log="build-asan/$(basename "$1").log"
   if "$1" >"$log" 2>&1; then echo "sanitizers: $(basename "$1") ok"
   else echo "sanitizers: $(basename "$1") FAILED"; tail -n 40 "$log"; exit 1; fi' sh || status=1
