@@ -495,7 +495,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
                             /* (the metasphere's are blended from every
                              * piece near the vertex once the block is done:
-                             * jm_meta_normals) */
+                             * jm_meta_normals_probe) */
                             ref = (uint32_t)out->nv++;
                             if (ni == 0 || nj == 0 || nk == 0) {
                                 if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {
@@ -537,13 +537,13 @@ done:
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, B, s->x, s->y, s->z, s->f, out->pos, out->cand,
-                               out->nv)) {
+    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, want_nrm ? &s->mnorm : NULL, B, s->x, s->y, s->z, s->f,
+                               out->pos, out->cand, out->nv)) {
         out->failed = 1;
         return;
     }
-    if (meta && want_nrm && !jm_meta_normals(g, c, &s->hood, &s->probe, &s->mnorm, B, s->x, s->y, s->z, out->pos,
-                                             out->nrm, out->nv)) {
+    if (meta && want_nrm && !jm_meta_normals_finish(g, c, &s->hood, &s->probe, &s->mnorm, B, s->x, s->y, s->z,
+                                                    out->pos, out->nrm, out->nv)) {
         out->failed = 1;
         return;
     }

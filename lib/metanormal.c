@@ -10,10 +10,15 @@
  * crease as a staircase). Here each piece visits the vertices its box
  * reaches, as in jm_meta_probe, and adds its weighted normal to theirs. */
 
+/* per vertex of capacity: 3 sums, 3 coordinates and 3 sums of a moved
+ * one, and its index */
+#define PER_VERTEX (9 * sizeof(float) + sizeof(uint32_t))
+
 void jm_mnorm_free(jm_mnorm *m)
 {
-    jm_free(m->mem, m->acc, m->cap * 3 * sizeof(float));
-    m->acc = NULL;
+    jm_free(m->mem, m->acc, m->cap * PER_VERTEX);
+    m->acc = m->sub = NULL;
+    m->moved = NULL;
     m->cap = 0;
 }
 
@@ -22,10 +27,12 @@ static int reserve(jm_mnorm *m, size_t n)
     if (n <= m->cap) return 1;
     size_t nc = m->cap ? 2 * m->cap : 1024;
     while (nc < n) nc *= 2;
-    float *a = jm_alloc(m->mem, nc * 3 * sizeof(float));
+    float *a = jm_alloc(m->mem, nc * PER_VERTEX);
     if (!a) return 0;
-    jm_free(m->mem, m->acc, m->cap * 3 * sizeof(float));
+    jm_free(m->mem, m->acc, m->cap * PER_VERTEX);
     m->acc = a;
+    m->sub = a + 3 * nc;
+    m->moved = (uint32_t *)(a + 9 * nc);
     m->cap = nc;
     return 1;
 }
@@ -40,6 +47,9 @@ typedef struct pass {
     int np;
     float thr, inv_tau, inv_r;
     float rb2; /* squared: beyond this from its particle a ball is out of the band */
+    float *vm; /* the fused pass (jm_meta_normals_probe): the probe's largest values, or NULL */
+    float neck_len, rn_probe, rb_probe; /* the probe's reach of a neck from its axis (jm_probe_pieces) */
+    int clo[3], chi[3]; /* a pass over a few vertices: the parts that hold any */
 } pass;
 
 /* The weight of a piece of value v: smoothstep(1 - gap / tau), gap =
@@ -70,10 +80,13 @@ static void ball_c(const pass *P, const int lo[3], const int hi[3], const float 
         for (size_t k = s; k < e; k++) {
             float dx = P->x[k] - q[0], dy = P->y[k] - q[1], dz = P->z[k] - q[2];
             float d2 = dx * dx + dy * dy + dz * dz;
-            if (!(d2 < P->rb2)) continue; /* weight 0 there: skipped early */
+            /* weight 0 there, and below any value the probe keeps: skipped early */
+            if (!(d2 < P->rb2)) continue;
             float d = sqrtf(d2);
+            const float v = 1.0f - d * P->inv_r;
+            if (P->vm && v > P->vm[k]) P->vm[k] = v;
             int ok;
-            float w = weight(P, 1.0f - d * P->inv_r, &ok);
+            float w = weight(P, v, &ok);
             if (!ok || !(d > 0.0f)) continue;
             float id = 1.0f / d;
             P->ax[k] += w * (dx * id);
@@ -86,7 +99,7 @@ static void ball_c(const pass *P, const int lo[3], const int hi[3], const float 
 /* both half-necks of the link from q along u, D long, within rr2 (squared)
  * of its axis */
 static void link_c(const pass *P, const int lo[3], const int hi[3], const float *q, const float *u, float D,
-                   float rr2)
+                   float rr2, float rrp2)
 {
     FOR_PART_VERTICES(P, lo, hi, s0, e, {
         for (size_t k = s0; k < e; k++) {
@@ -97,8 +110,10 @@ static void link_c(const pass *P, const int lo[3], const int hi[3], const float 
             float sm = D - s, near = s < sm ? s : sm, sg = s <= sm ? 1.0f : -1.0f;
             float t = near * P->inv_r;
             float qq = sqrtf(q2 > 0.0f ? q2 : 0.0f);
+            const float v = jm_cos_quarter(t) - qq * P->inv_r;
+            if (P->vm && q2 < rrp2 && v > P->vm[k]) P->vm[k] = v;
             int ok;
-            float w = weight(P, jm_cos_quarter(t) - qq * P->inv_r, &ok);
+            float w = weight(P, v, &ok);
             if (!ok || !(qq > 0.0f)) continue;
             /* minus the gradient, times r: away from the axis, tilted
              * along it toward the waist as the neck narrows (jm_prim_eval;
@@ -161,7 +176,10 @@ __attribute__((target("avx2"))) static inline void add8(float *a, size_t k, __m2
     _mm256_storeu_ps(a + k, _mm256_blendv_ps(old, _mm256_add_ps(old, _mm256_mul_ps(w, n)), m));
 }
 
-__attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3], const int hi[3], const float *q)
+/* probe: the fused pass (P->vm kept too); a constant where inlined */
+__attribute__((target("avx2"), always_inline)) static inline void ball8_(const pass *P, const int lo[3],
+                                                                          const int hi[3], const float *q,
+                                                                          const int probe)
 {
     const __m256 qx = B8(q[0]), qy = B8(q[1]), qz = B8(q[2]), zero = _mm256_setzero_ps();
     FOR_RUNS8(P, lo, hi, k, lanes, {
@@ -171,8 +189,13 @@ __attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3]
         __m256 near = _mm256_and_ps(lanes, _mm256_cmp_ps(d2, B8(P->rb2), _CMP_LT_OQ));
         if (!_mm256_movemask_ps(near)) continue;
         __m256 d = _mm256_sqrt_ps(d2);
+        __m256 v = _mm256_sub_ps(B8(1.0f), _mm256_mul_ps(d, B8(P->inv_r)));
+        if (probe) {
+            __m256 old = _mm256_loadu_ps(P->vm + k);
+            _mm256_storeu_ps(P->vm + k, _mm256_blendv_ps(old, _mm256_max_ps(v, old), lanes));
+        }
         __m256 ok;
-        __m256 w = weight8(P, _mm256_sub_ps(B8(1.0f), _mm256_mul_ps(d, B8(P->inv_r))), &ok);
+        __m256 w = weight8(P, v, &ok);
         __m256 m = _mm256_and_ps(_mm256_and_ps(ok, near), _mm256_cmp_ps(d, zero, _CMP_GT_OQ));
         if (!_mm256_movemask_ps(m)) continue;
         __m256 id = _mm256_div_ps(B8(1.0f), d);
@@ -182,8 +205,10 @@ __attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3]
     })
 }
 
-__attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3], const int hi[3], const float *q,
-                                                    const float *u, float D, float rr2)
+__attribute__((target("avx2"), always_inline)) static inline void link8_(const pass *P, const int lo[3],
+                                                                          const int hi[3], const float *q,
+                                                                          const float *u, float D, float rr2,
+                                                                          float rrp2, const int probe)
 {
     const __m256 qx = B8(q[0]), qy = B8(q[1]), qz = B8(q[2]), ux = B8(u[0]), uy = B8(u[1]), uz = B8(u[2]);
     const __m256 dd = B8(D), r2 = B8(rr2), zero = _mm256_setzero_ps(), ir = B8(P->inv_r);
@@ -210,8 +235,14 @@ __attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3]
         cs = _mm256_add_ps(B8(1.0f / 24), _mm256_mul_ps(t2, cs));
         cs = _mm256_add_ps(B8(-0.5f), _mm256_mul_ps(t2, cs));
         cs = _mm256_add_ps(B8(1.0f), _mm256_mul_ps(t2, cs));
+        __m256 v = _mm256_sub_ps(cs, _mm256_mul_ps(qq, ir));
+        if (probe) {
+            __m256 keep = _mm256_and_ps(in, _mm256_cmp_ps(q2, B8(rrp2), _CMP_LT_OQ));
+            __m256 old = _mm256_loadu_ps(P->vm + k);
+            _mm256_storeu_ps(P->vm + k, _mm256_blendv_ps(old, _mm256_max_ps(v, old), keep));
+        }
         __m256 ok;
-        __m256 w = weight8(P, _mm256_sub_ps(cs, _mm256_mul_ps(qq, ir)), &ok);
+        __m256 w = weight8(P, v, &ok);
         __m256 m = _mm256_and_ps(_mm256_and_ps(in, ok), _mm256_cmp_ps(qq, zero, _CMP_GT_OQ));
         if (!_mm256_movemask_ps(m)) continue;
         __m256 sn = _mm256_add_ps(B8(-1.0f / 5040), _mm256_mul_ps(t2, B8(1.0f / 362880)));
@@ -228,11 +259,30 @@ __attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3]
         add8(P->az, k, m, w, oz);
     })
 }
+__attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3], const int hi[3], const float *q)
+{
+    ball8_(P, lo, hi, q, 0);
+}
+__attribute__((target("avx2"))) static void ball8p(const pass *P, const int lo[3], const int hi[3], const float *q)
+{
+    ball8_(P, lo, hi, q, 1);
+}
+__attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3], const int hi[3], const float *q,
+                                                    const float *u, float D, float rr2)
+{
+    link8_(P, lo, hi, q, u, D, rr2, 0.0f, 0);
+}
+__attribute__((target("avx2"))) static void link8p(const pass *P, const int lo[3], const int hi[3], const float *q,
+                                                     const float *u, float D, float rr2, float rrp2)
+{
+    link8_(P, lo, hi, q, u, D, rr2, rrp2, 1);
+}
 #endif
 
 
 /* the pieces' weighted gradients onto the vertices, eight at a time
- * where the CPU runs AVX2 (the same bits) */
+ * where the CPU runs AVX2 (the same bits); the fused pass keeps the
+ * probe's largest values on the way */
 static void normal_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
 {
 #ifdef HAVE_AVX2_NORMALS
@@ -251,36 +301,143 @@ static void normal_link(void *ctx, const int lo[3], const int hi[3], const float
         return;
     }
 #endif
-    link_c(ctx, lo, hi, q, u, D, rr2);
+    link_c(ctx, lo, hi, q, u, D, rr2, 0.0f);
+}
+static void fused_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
+{
+#ifdef HAVE_AVX2_NORMALS
+    if (wide) {
+        ball8p(ctx, lo, hi, q);
+        return;
+    }
+#endif
+    ball_c(ctx, lo, hi, q);
+}
+static void fused_link(void *ctx, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
+{
+    const pass *P = ctx;
+    /* the probe's reach from the axis (jm_probe_pieces) */
+    const float rp = 0.5f * u[3] <= P->neck_len ? P->rn_probe : P->rb_probe;
+#ifdef HAVE_AVX2_NORMALS
+    if (wide) {
+        link8p(ctx, lo, hi, q, u, D, rr2, rp * rp);
+        return;
+    }
+#endif
+    link_c(ctx, lo, hi, q, u, D, rr2, rp * rp);
 }
 
-int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
-                    const float *x, const float *y, const float *z, const float *pos, float *nrm, size_t nv)
+/* how far a piece reaches in the band */
+static float band_reach(const jm_config *c) { return c->r * (1.0f - (c->threshold - c->mv_tau)) + 1e-3f * c->r; }
+
+/* the pass over a few vertices: a piece's parts clipped to those that
+ * hold any (the others would add nothing) */
+static int clip(const pass *P, const int lo[3], const int hi[3], int clo[3], int chi[3])
 {
-    if (!nv || !nrm) return 1;
+    for (int a = 0; a < 3; a++) {
+        clo[a] = lo[a] > P->clo[a] ? lo[a] : P->clo[a];
+        chi[a] = hi[a] < P->chi[a] ? hi[a] : P->chi[a];
+        if (clo[a] > chi[a]) return 0;
+    }
+    return 1;
+}
+static void few_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
+{
+    int l[3], h[3];
+    if (clip(ctx, lo, hi, l, h)) normal_ball(ctx, l, h, q);
+}
+static void few_link(void *ctx, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
+{
+    int l[3], h[3];
+    if (clip(ctx, lo, hi, l, h)) normal_link(ctx, l, h, q, u, D, rr2);
+}
+
+/* the pass over the sorted points x, y, z (n of them, n >= 8) with part
+ * starts ps, sums into acc (3 n floats, zeroed here) */
+static pass make_pass(const jm_config *c, int B, const float *x, const float *y, const float *z, size_t n,
+                      const uint32_t *ps, float *acc)
+{
+    memset(acc, 0, n * 3 * sizeof(float));
+    /* a piece comes within tau of the threshold only within rb of its
+     * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
+    const float rb = band_reach(c);
+    pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau,
+              1.0f / c->r, rb * rb, NULL, 1.5707f * c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}};
+    return P;
+}
+int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
+                          const float *x, const float *y, const float *z, size_t nv, float rb_probe, float rn_probe)
+{
 #ifdef HAVE_AVX2_NORMALS
     pthread_once(&wide_once, wide_choose);
 #endif
     const size_t ns = nv < 8 ? 8 : nv;
     if (!reserve(m, ns)) return 0;
-    /* the settled points (the probe sorted the roots before settling) */
-    for (size_t w = 0; w < nv; w++) {
-        const float *p = &pos[3 * (size_t)pr->order[w]];
-        pr->px[w] = p[0];
-        pr->py[w] = p[1];
-        pr->pz[w] = p[2];
-    }
-    memset(m->acc, 0, ns * 3 * sizeof(float));
-    pass P = {pr->px, pr->py, pr->pz, m->acc, m->acc + ns, m->acc + 2 * ns, ns, pr->pstart,
-              jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau, 1.0f / c->r, 0.0f};
-    /* a piece comes within tau of the threshold only within rb of its
-     * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
-    const float rb = c->r * (1.0f - (c->threshold - c->mv_tau)) + 1e-3f * c->r, rb2 = rb * rb;
-    P.rb2 = rb2;
-    const jm_piece_visitor vis = {rb, rb, normal_ball, normal_link, &P};
+    pass P = make_pass(c, B, pr->px, pr->py, pr->pz, ns, pr->pstart, m->acc);
+    P.vm = pr->vmax;
+    P.rb_probe = rb_probe;
+    P.rn_probe = rn_probe;
+    const float reach = band_reach(c);
+    const jm_piece_visitor vis = {reach, reach, fused_ball, fused_link, &P};
     jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+    return 1;
+}
+
+int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m,
+                           int B, const float *x, const float *y, const float *z, const float *pos, float *nrm,
+                           size_t nv)
+{
+    if (!nv || !nrm) return 1;
+    const size_t ns = nv < 8 ? 8 : nv;
+    float *ax = m->acc, *ay = m->acc + ns, *az = m->acc + 2 * ns;
+    /* the vertices the settling moved (or the clamp kept off their
+     * root's point): their sums again, at where they are now */
+    uint32_t *moved = m->moved;
+    size_t nm = 0;
     for (size_t w = 0; w < nv; w++) {
-        float a0 = P.ax[w], a1 = P.ay[w], a2 = P.az[w];
+        const uint32_t v = pr->order[w];
+        if (memcmp(&pos[3 * (size_t)v], &pr->pt[3 * (size_t)v], 3 * sizeof(float)) != 0) moved[nm++] = (uint32_t)w;
+    }
+    if (nm) {
+        const int np = jm_probe_parts(B);
+        const size_t parts = (size_t)np * np * np, n2 = nm < 8 ? 8 : nm;
+        /* their part starts, where the probe counted (free after its sort) */
+        uint32_t *ps = pr->pstart + parts + 1;
+        memset(ps, 0, (parts + 1) * sizeof *ps);
+        float *sx = m->sub, *sy = sx + n2, *sz = sy + n2, *sacc = sz + n2;
+        int clo[3] = {np, np, np}, chi[3] = {-1, -1, -1};
+        for (size_t j = 0; j < n2; j++) {
+            if (j < nm) {
+                const uint32_t v = pr->order[moved[j]], part = pr->part[v];
+                ps[part + 1]++;
+                const int pc[3] = {(int)(part % (uint32_t)np), (int)(part / (uint32_t)np % (uint32_t)np),
+                                   (int)(part / ((uint32_t)np * (uint32_t)np))};
+                for (int a = 0; a < 3; a++) {
+                    if (pc[a] < clo[a]) clo[a] = pc[a];
+                    if (pc[a] > chi[a]) chi[a] = pc[a];
+                }
+                sx[j] = pos[3 * (size_t)v];
+                sy[j] = pos[3 * (size_t)v + 1];
+                sz[j] = pos[3 * (size_t)v + 2];
+            } else {
+                sx[j] = sy[j] = sz[j] = 1e30f; /* fewer than 8: far away dummies */
+            }
+        }
+        for (size_t q = 0; q < parts; q++) ps[q + 1] += ps[q];
+        pass P = make_pass(c, B, sx, sy, sz, n2, ps, sacc);
+        memcpy(P.clo, clo, sizeof clo);
+        memcpy(P.chi, chi, sizeof chi);
+        const float reach = band_reach(c);
+        const jm_piece_visitor vis = {reach, reach, few_ball, few_link, &P};
+        jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+        for (size_t j = 0; j < nm; j++) {
+            ax[moved[j]] = P.ax[j];
+            ay[moved[j]] = P.ay[j];
+            az[moved[j]] = P.az[j];
+        }
+    }
+    for (size_t w = 0; w < nv; w++) {
+        float a0 = ax[w], a1 = ay[w], a2 = az[w];
         float len = sqrtf(a0 * a0 + a1 * a1 + a2 * a2);
         if (!(len > 0.0f)) continue; /* no piece near: the normal found before */
         float *o = &nrm[3 * (size_t)pr->order[w]];

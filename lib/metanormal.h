@@ -3,11 +3,13 @@
 #define JETMESH_METANORMAL_H
 #include "metaprobe.h"
 
-/* Per-worker scratch of jm_meta_normals (grown like the probe's). */
+/* Per-worker scratch of the normals (grown like the probe's). */
 typedef struct jm_mnorm {
     jm_mem *mem;   /* the context's counts (alloc.c); kept by jm_mnorm_free */
     size_t cap;
     float *acc;    /* 3 * cap: the weighted sums, in the probe's sorted order */
+    float *sub;    /* 6 * cap: the moved vertices' points and sums */
+    uint32_t *moved; /* cap: their sorted positions */
 } jm_mnorm;
 void jm_mnorm_free(jm_mnorm *m);
 
@@ -17,13 +19,27 @@ void jm_mnorm_free(jm_mnorm *m);
  * the vertex comes within c->mv_tau of the threshold, each weighted by
  * smoothstep(1 - gap / mv_tau) (gap: how far its value lies below the
  * threshold, 0 for a piece at or above it): the direction of the gradient
- * of a smooth maximum of the pieces, continuous across every crease. Every piece is splatted onto the block's
- * vertices as jm_meta_probe splats them (its sorted points pr, after the
- * probe and the settling: the points are refreshed from pos), so no piece
+ * of a smooth maximum of the pieces, continuous across every crease.
+ * Every piece is splatted onto the block's vertices as jm_meta_probe
+ * splats them (its sorted points pr), so no piece
  * near a vertex is left out, and neighbouring vertices blend the same
  * pieces: the crease is shaded as a fillet about mv_tau r wide on each
  * side, with no step where the pieces blended would change from vertex to
- * vertex. nrm: nv normals in block order. 0 if out of memory. */
-int jm_meta_normals(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
-                    const float *x, const float *y, const float *z, const float *pos, float *nrm, size_t nv);
+ * vertex.
+ *
+ * In two steps, one pass over the pieces in all for most blocks:
+ * jm_meta_normals_probe is jm_meta_probe's splat (called by it, on the
+ * roots it sorted; rb_probe and rn_probe its reach, at most the band's:
+ * c->mv_tau >= 2 c->mv_check) and sums every vertex's normal at its root
+ * on the way, as it keeps the largest value there; after the settling,
+ * jm_meta_normals_finish sums again, in a pass over only them, the
+ * vertices that no longer lie at their root (settled, or clamped on their
+ * edge), and writes the normals (nrm: nv in block order). A vertex's sum
+ * has the same terms in the same order either way, so the bits are those
+ * of one pass at the final points. 0 if out of memory. */
+int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
+                          const float *x, const float *y, const float *z, size_t nv, float rb_probe, float rn_probe);
+int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m,
+                           int B, const float *x, const float *y, const float *z, const float *pos, float *nrm,
+                           size_t nv);
 #endif

@@ -1,5 +1,6 @@
 /* metaprobe.c - every metasphere piece evaluated at a block's vertices: those off the exact surface settled again. */
 #include "metaprobe.h"
+#include "metanormal.h"
 #include "metavertex.h"
 #include "tables.h"
 #include <math.h>
@@ -348,8 +349,9 @@ static void probe_link(void *ctx, const int lo[3], const int hi[3], const float 
     splat_link(k->R, k->ps, k->np, lo, hi, q, u, D, rr2, k->inv_r);
 }
 
-int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, int B, const float *x,
-                  const float *y, const float *z, const float *f, float *pos, const uint32_t *cand, size_t nv)
+int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, struct jm_mnorm *m, int B,
+                  const float *x, const float *y, const float *z, const float *f, float *pos, const uint32_t *cand,
+                  size_t nv)
 {
     if (!nv) return 1;
     const int np = jm_probe_parts(B);
@@ -400,9 +402,15 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
      * field.c), where that ball holds the value */
     const rows R = {pr->px, pr->py, pr->pz, pr->vmax, ns};
     const float slack = 1e-3f * c->r, rb = c->r * (1.0f - level) + slack;
-    probe_ctx pc = {&R, ps, np, inv_r};
-    const jm_piece_visitor vis = {rb, fminf(rb, 1.02f * c->r + slack), probe_ball, probe_link, &pc};
-    jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+    const float rn = fminf(rb, 1.02f * c->r + slack);
+    if (m) {
+        /* the normals' pass, which reaches further (metanormal.h) */
+        if (!jm_meta_normals_probe(g, c, hood, pr, m, B, x, y, z, nv, rb, rn)) return 0;
+    } else {
+        probe_ctx pc = {&R, ps, np, inv_r};
+        const jm_piece_visitor vis = {rb, rn, probe_ball, probe_link, &pc};
+        jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+    }
 
     /* the vertices off the surface, settled again on every piece there */
     for (size_t w = 0; w < nv; w++) {

@@ -98,8 +98,12 @@ void jm_probe_free(jm_probe *pr);
  * piece value at a vertex's root is off the threshold by more than
  * c->mv_tol (a third piece winning mid-edge, or a refinement stopped
  * short), the vertex is settled again on every piece near it
- * (jm_meta_settle); the normals come after (jm_meta_normals). 0 if out of
- * memory. */
-int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, int B, const float *x,
-                  const float *y, const float *z, const float *f, float *pos, const uint32_t *cand, size_t nv);
+ * (jm_meta_settle). With m (normals wanted), the splat is the normals'
+ * (jm_meta_normals_probe, which sums them on the way) and
+ * jm_meta_normals_finish comes after; without, the probe's own. 0 if out
+ * of memory. */
+struct jm_mnorm;
+int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, struct jm_mnorm *m, int B,
+                  const float *x, const float *y, const float *z, const float *f, float *pos, const uint32_t *cand,
+                  size_t nv);
 #endif
