@@ -34,7 +34,7 @@ void jm_metavertex_config(jm_config *c)
     c->mv_check = 0.0125f;
     c->mv_inv_r = 1.0f / c->r;
     /* normals blend the pieces within this of the threshold
-     * (jm_meta_normals) */
+     * (metanormal.h) */
     c->mv_tau = MV_GAP;
     float reach = reach_of(c, c->threshold - c->mv_tol);
     c->mv_reach2s = reach * reach;
