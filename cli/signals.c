@@ -3,6 +3,8 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <stdatomic.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -28,6 +30,12 @@
  *  3. It then restores the default action, unblocks the signal in its own
  *     thread and raises it: the process dies by that signal (status 128+N
  *     in the shell), all threads with it.
+ *  4. Between 2 and 3 the other threads run on: a frame whose write the
+ *     shutdown refused fails ("stopping on a signal"), and without --keep-
+ *     going the main thread then ends the run with status 1, before the
+ *     waiter (descheduled on a loaded machine) has raised the signal. So
+ *     exit() waits once a signal has been taken (an atexit handler): the
+ *     process always dies by the signal, whatever the threads were doing.
  *
  * SIGPIPE is thread-directed: it goes to the thread whose write failed,
  * where a sigwait in another thread would never see it. So it is unblocked
@@ -41,6 +49,15 @@
 static const int g_sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGPIPE};
 static sigset_t g_set;
 static pthread_t g_waiter;
+static atomic_int g_taken; /* a signal was taken: the process dies by it */
+
+/* atexit: after a signal, leave the exit to the waiter's raise (step 4) */
+static void await_signal_death(void)
+{
+    if (atomic_load(&g_taken))
+        for (;;)
+            pause();
+}
 
 static void *waiter(void *arg)
 {
@@ -49,6 +66,7 @@ static void *waiter(void *arg)
         int sig = 0;
         if (sigwait(&g_set, &sig) != 0)
             continue;
+        atomic_store(&g_taken, 1);
         jmf_atomic_shutdown();
         signal(sig, SIG_DFL);
         sigset_t one;
@@ -93,6 +111,7 @@ void signals_install_cleanup(void)
         pthread_sigmask(SIG_SETMASK, &before, NULL);
         return;
     }
+    atexit(await_signal_death);
     if (sigismember(&g_set, SIGPIPE)) {
         struct sigaction sa;
         memset(&sa, 0, sizeof sa);
