@@ -98,7 +98,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
  * and |cx - ic| <= 1/2 + 1e-5 (cx is within 1e3 of 0, its ulp below
  * 1e-4), so fl(cx - half) < ic - K and fl(cx + half) > ic + K: a <= ic - K
  * and b >= ic + K + 1. */
-#define PARTIAL_BODY(ROWP)                                                                                 \
+#define PARTIAL_BODY(ROWP, PREP)                                                                               \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;                         \
     const float Rp = JM_PART_REACH * R;                                                                    \
@@ -118,6 +118,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
             const int ic = ifloor(cx + 0.5f);                                                              \
             const int a = ic - K > i0 ? ic - K : i0, b = ic + K + 1 < i1 ? ic + K + 1 : i1;                \
             if (a >= b) continue;                                                                          \
+            PREP                                                                                           \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
                 if (dz2 >= Rw2) continue;                                                                  \
@@ -137,7 +138,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
 
 static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 0) }
 static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 1) }
-static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(row_c) } /* exact lanes [a, b) */
+static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(row_c, ) } /* exact lanes [a, b) */
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -260,15 +261,41 @@ __attribute__((target("avx512f"))) INLINE void rowp_avx512(float *row, const flo
     }
 }
 
+/* AVX-512 partial rows in one step: a window is at most 2 K + 1 <= 15
+ * nodes (PARTIAL_BODY), so rowp_avx512 takes a single step, whose mask and
+ * (xp - qx)^2 are the same on every row of a particle: computed once per
+ * particle (PREP_AVX512), the same operations on the same operands, so the
+ * same bits on each row (ROWP1_AVX512). */
+#define PREP_AVX512                                                                                        \
+    const __mmask16 pm = (__mmask16)((1u << (b - a)) - 1u);                                                \
+    const __m512 pdx = _mm512_sub_ps(_mm512_maskz_loadu_ps(pm, xp + a), _mm512_set1_ps(qx));               \
+    const __m512 pdx2 = _mm512_mul_ps(pdx, pdx), pvi = _mm512_set1_ps(inv), pvw = _mm512_set1_ps(wgt);
+#define ROWP1_AVX512(row, xp_, a_, b_, qx_, dyz2, inv_, wgt_) rowp1_avx512((row) + a, pm, pdx2, dyz2, pvi, pvw)
+__attribute__((target("avx512f"))) INLINE void rowp1_avx512(float *row, __mmask16 m, __m512 dx2, float dyz2, __m512 vi,
+                                                            __m512 vw)
+{
+    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
+    const __m512 quarter = _mm512_set1_ps(0.25f);
+    __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(dx2, _mm512_set1_ps(dyz2))), vi);
+    __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
+    __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
+    __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
+                             _mm512_mul_ps(_mm512_mul_ps(B, B), B));
+    _mm512_mask_storeu_ps(row, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row), _mm512_mul_ps(vw, w)));
+}
+
 static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 0) }
 static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 1) }
-static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2) }
+static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2, ) }
 __attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 0) }
 __attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 1) }
-__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2) }
+__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2, ) }
 __attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(row_avx512, 0) }
 __attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx512, 1) }
-__attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx512) }
+__attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS)
+{
+    PARTIAL_BODY(ROWP1_AVX512, PREP_AVX512)
+}
 
 typedef void (*sample_fn)(SAMPLE_ARGS);
 static sample_fn chosen[3]; /* every node, spans, partial sums */
