@@ -175,37 +175,6 @@ __attribute__((target("avx2"))) INLINE void row_avx2(float *row, const float *xp
     }
 }
 
-/* AVX-512: runs of 16 nodes, and a last run of 8 in AVX (runs are whole
- * multiples of 8 long): the same lanes as AVX2, each with the same
- * operations, so the same bits */
-__attribute__((target("avx512f"))) INLINE void row_avx512(float *row, const float *xp, int a, int b, float qx,
-                                                          float dyz2, float inv, float wgt)
-{
-    const __m512 vq = _mm512_set1_ps(qx), vd = _mm512_set1_ps(dyz2), vi = _mm512_set1_ps(inv), vw = _mm512_set1_ps(wgt);
-    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
-    const __m512 quarter = _mm512_set1_ps(0.25f);
-    int i = a;
-    for (; i + 16 <= b; i += 16) {
-        __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(xp + i), vq);
-        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
-        __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
-        __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
-        __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
-                                 _mm512_mul_ps(_mm512_mul_ps(B, B), B));
-        _mm512_storeu_ps(row + i, _mm512_add_ps(_mm512_loadu_ps(row + i), _mm512_mul_ps(vw, w)));
-    }
-    if (i < b) {
-        const __m256 hq = _mm256_set1_ps(qx), hd = _mm256_set1_ps(dyz2), hi = _mm256_set1_ps(inv), hw = _mm256_set1_ps(wgt);
-        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), hq);
-        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), hd)), hi);
-        __m256 A = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), q), _mm256_setzero_ps());
-        __m256 B = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), q), _mm256_setzero_ps());
-        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.25f), A), A), A),
-                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
-        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(hw, w)));
-    }
-}
-
 /* Partial rows: the lanes [a, b) only, the others of each step adding +0
  * (a sum of terms >= 0 plus +0 is itself) */
 INLINE void rowp_sse2(float *row, const float *xp, int a, int b, float qx, float dyz2, float inv, float wgt)
@@ -243,29 +212,11 @@ __attribute__((target("avx2"))) INLINE void rowp_avx2(float *row, const float *x
     }
 }
 
-__attribute__((target("avx512f"))) INLINE void rowp_avx512(float *row, const float *xp, int a, int b, float qx,
-                                                           float dyz2, float inv, float wgt)
-{
-    const __m512 vq = _mm512_set1_ps(qx), vd = _mm512_set1_ps(dyz2), vi = _mm512_set1_ps(inv), vw = _mm512_set1_ps(wgt);
-    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
-    const __m512 quarter = _mm512_set1_ps(0.25f);
-    for (int i = a; i < b; i += 16) {
-        /* masked loads: a window may end within 16 lanes of its row's end */
-        const __mmask16 m = b - i >= 16 ? (__mmask16)0xFFFF : (__mmask16)((1u << (b - i)) - 1u);
-        __m512 dx = _mm512_sub_ps(_mm512_maskz_loadu_ps(m, xp + i), vq);
-        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
-        __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
-        __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
-        __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
-                                 _mm512_mul_ps(_mm512_mul_ps(B, B), B));
-        _mm512_mask_storeu_ps(row + i, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row + i), _mm512_mul_ps(vw, w)));
-    }
-}
-
-/* AVX-512 full and span rows: (xp - qx)^2 formed once per particle over the
- * whole padded row (SPREP_AVX512, ns a multiple of 8) and read by each row
- * step (row_avx512d): the same operations on the same operands as
- * row_avx512, so the same bits. */
+/* AVX-512 full and span rows: runs of 16 nodes, and a last run of 8 in AVX
+ * (runs are whole multiples of 8 long), (xp - qx)^2 formed once per particle
+ * over the whole padded row (SPREP_AVX512, ns a multiple of 8) and read by
+ * each row step (row_avx512d): each lane gets the operations it gets in
+ * row_avx2, on the same operands, so the same bits. */
 #define SPREP_AVX512                                                                                       \
     float dx2r[JM_PAD_MAX];                                                                                \
     {                                                                                                      \
@@ -307,10 +258,11 @@ __attribute__((target("avx512f"))) INLINE void row_avx512d(float *row, const flo
 }
 
 /* AVX-512 partial rows in one step: a window is at most 2 K + 1 <= 15
- * nodes (PARTIAL_BODY), so rowp_avx512 takes a single step, whose mask and
- * (xp - qx)^2 are the same on every row of a particle: computed once per
- * particle (PREP_AVX512), the same operations on the same operands, so the
- * same bits on each row (ROWP1_AVX512). */
+ * nodes (PARTIAL_BODY), so one masked step covers it (masked loads: a window
+ * may end within 16 lanes of its row's end), and its mask and (xp - qx)^2
+ * are the same on every row of a particle: computed once per particle
+ * (PREP_AVX512); each lane gets the operations it gets in rowp_avx2, on the
+ * same operands, so the same bits (ROWP1_AVX512). */
 #define PREP_AVX512                                                                                        \
     const __mmask16 pm = (__mmask16)((1u << (b - a)) - 1u);                                                \
     const __m512 pdx = _mm512_sub_ps(_mm512_maskz_loadu_ps(pm, xp + a), _mm512_set1_ps(qx));               \
