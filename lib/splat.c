@@ -49,7 +49,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
  * pad, whose rows are JM_PAD(n) >= n + 7 long, in runs of 8 nodes from the
  * start of the support's chord: one or two vector steps per row (the lanes
  * past the chord add exact zeros: the kernel vanishes beyond its support). */
-#define SAMPLE_BODY(ROW, SPANNED)                                                                          \
+#define SAMPLE_BODY(ROW, SPANNED, PREP)                                                                        \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
     ROWS_SETUP                                                                                             \
@@ -60,6 +60,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
             if (!reaches(g, p, q, box, x, y, z, n, inv_h, R, &i0, &i1, &j0, &j1, &k0, &k1)) continue;       \
             const float wgt = g->weight[p];                                                                \
             const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
+            PREP                                                                                           \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
                 float *slab = pad + (size_t)kk * n * ns;                                                   \
@@ -98,7 +99,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
  * and |cx - ic| <= 1/2 + 1e-5 (cx is within 1e3 of 0, its ulp below
  * 1e-4), so fl(cx - half) < ic - K and fl(cx + half) > ic + K: a <= ic - K
  * and b >= ic + K + 1. */
-#define PARTIAL_BODY(ROWP)                                                                                 \
+#define PARTIAL_BODY(ROWP, PREP)                                                                               \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;                         \
     const float Rp = JM_PART_REACH * R;                                                                    \
@@ -118,6 +119,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
             const int ic = ifloor(cx + 0.5f);                                                              \
             const int a = ic - K > i0 ? ic - K : i0, b = ic + K + 1 < i1 ? ic + K + 1 : i1;                \
             if (a >= b) continue;                                                                          \
+            PREP                                                                                           \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
                 if (dz2 >= Rw2) continue;                                                                  \
@@ -135,9 +137,9 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
     const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
         int n, const uint8_t *span, float *pad
 
-static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 0) }
-static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 1) }
-static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(row_c) } /* exact lanes [a, b) */
+static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 0, ) }
+static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 1, ) }
+static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(row_c, ) } /* exact lanes [a, b) */
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -170,37 +172,6 @@ __attribute__((target("avx2"))) INLINE void row_avx2(float *row, const float *xp
         __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
                                  _mm256_mul_ps(_mm256_mul_ps(B, B), B));
         _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(vw, w)));
-    }
-}
-
-/* AVX-512: runs of 16 nodes, and a last run of 8 in AVX (runs are whole
- * multiples of 8 long): the same lanes as AVX2, each with the same
- * operations, so the same bits */
-__attribute__((target("avx512f"))) INLINE void row_avx512(float *row, const float *xp, int a, int b, float qx,
-                                                          float dyz2, float inv, float wgt)
-{
-    const __m512 vq = _mm512_set1_ps(qx), vd = _mm512_set1_ps(dyz2), vi = _mm512_set1_ps(inv), vw = _mm512_set1_ps(wgt);
-    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
-    const __m512 quarter = _mm512_set1_ps(0.25f);
-    int i = a;
-    for (; i + 16 <= b; i += 16) {
-        __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(xp + i), vq);
-        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
-        __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
-        __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
-        __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
-                                 _mm512_mul_ps(_mm512_mul_ps(B, B), B));
-        _mm512_storeu_ps(row + i, _mm512_add_ps(_mm512_loadu_ps(row + i), _mm512_mul_ps(vw, w)));
-    }
-    if (i < b) {
-        const __m256 hq = _mm256_set1_ps(qx), hd = _mm256_set1_ps(dyz2), hi = _mm256_set1_ps(inv), hw = _mm256_set1_ps(wgt);
-        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), hq);
-        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), hd)), hi);
-        __m256 A = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), q), _mm256_setzero_ps());
-        __m256 B = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), q), _mm256_setzero_ps());
-        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.25f), A), A), A),
-                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
-        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(hw, w)));
     }
 }
 
@@ -241,34 +212,87 @@ __attribute__((target("avx2"))) INLINE void rowp_avx2(float *row, const float *x
     }
 }
 
-__attribute__((target("avx512f"))) INLINE void rowp_avx512(float *row, const float *xp, int a, int b, float qx,
-                                                           float dyz2, float inv, float wgt)
+/* AVX-512 full and span rows: runs of 16 nodes, and a last run of 8 in AVX
+ * (runs are whole multiples of 8 long), (xp - qx)^2 formed once per particle
+ * over the whole padded row (SPREP_AVX512, ns a multiple of 8) and read by
+ * each row step (row_avx512d): each lane gets the operations it gets in
+ * row_avx2, on the same operands, so the same bits. */
+#define SPREP_AVX512                                                                                       \
+    float dx2r[JM_PAD_MAX];                                                                                \
+    {                                                                                                      \
+        int t = 0;                                                                                         \
+        for (; t + 16 <= ns; t += 16) {                                                                    \
+            const __m512 d = _mm512_sub_ps(_mm512_loadu_ps(xp + t), _mm512_set1_ps(qx));                   \
+            _mm512_storeu_ps(dx2r + t, _mm512_mul_ps(d, d));                                               \
+        }                                                                                                  \
+        if (t < ns) {                                                                                      \
+            const __m256 d = _mm256_sub_ps(_mm256_loadu_ps(xp + t), _mm256_set1_ps(qx));                   \
+            _mm256_storeu_ps(dx2r + t, _mm256_mul_ps(d, d));                                               \
+        }                                                                                                  \
+    }                                                                                                      \
+    const __m512 svi = _mm512_set1_ps(inv), svw = _mm512_set1_ps(wgt);
+#define ROWD_AVX512(row, xp_, a, b, qx_, dyz2, inv_, wgt_) row_avx512d(row, dx2r, a, b, dyz2, svi, svw)
+__attribute__((target("avx512f"))) INLINE void row_avx512d(float *row, const float *dx2r, int a, int b, float dyz2,
+                                                           __m512 vi, __m512 vw)
 {
-    const __m512 vq = _mm512_set1_ps(qx), vd = _mm512_set1_ps(dyz2), vi = _mm512_set1_ps(inv), vw = _mm512_set1_ps(wgt);
-    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
-    const __m512 quarter = _mm512_set1_ps(0.25f);
-    for (int i = a; i < b; i += 16) {
-        /* masked loads: a window may end within 16 lanes of its row's end */
-        const __mmask16 m = b - i >= 16 ? (__mmask16)0xFFFF : (__mmask16)((1u << (b - i)) - 1u);
-        __m512 dx = _mm512_sub_ps(_mm512_maskz_loadu_ps(m, xp + i), vq);
-        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), vd)), vi);
+    const __m512 vd = _mm512_set1_ps(dyz2), two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f);
+    const __m512 zero = _mm512_setzero_ps(), quarter = _mm512_set1_ps(0.25f);
+    int i = a;
+    for (; i + 16 <= b; i += 16) {
+        __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(_mm512_loadu_ps(dx2r + i), vd)), vi);
         __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
         __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
         __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
                                  _mm512_mul_ps(_mm512_mul_ps(B, B), B));
-        _mm512_mask_storeu_ps(row + i, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row + i), _mm512_mul_ps(vw, w)));
+        _mm512_storeu_ps(row + i, _mm512_add_ps(_mm512_loadu_ps(row + i), _mm512_mul_ps(vw, w)));
+    }
+    if (i < b) {
+        const __m256 hd = _mm256_set1_ps(dyz2), hi = _mm512_castps512_ps256(vi), hw = _mm512_castps512_ps256(vw);
+        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_loadu_ps(dx2r + i), hd)), hi);
+        __m256 A = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), q), _mm256_setzero_ps());
+        __m256 B = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), q), _mm256_setzero_ps());
+        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.25f), A), A), A),
+                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(hw, w)));
     }
 }
 
-static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 0) }
-static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 1) }
-static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2) }
-__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 0) }
-__attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 1) }
-__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2) }
-__attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(row_avx512, 0) }
-__attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx512, 1) }
-__attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx512) }
+/* AVX-512 partial rows in one step: a window is at most 2 K + 1 <= 15
+ * nodes (PARTIAL_BODY), so one masked step covers it (masked loads: a window
+ * may end within 16 lanes of its row's end), and its mask and (xp - qx)^2
+ * are the same on every row of a particle: computed once per particle
+ * (PREP_AVX512); each lane gets the operations it gets in rowp_avx2, on the
+ * same operands, so the same bits (ROWP1_AVX512). */
+#define PREP_AVX512                                                                                        \
+    const __mmask16 pm = (__mmask16)((1u << (b - a)) - 1u);                                                \
+    const __m512 pdx = _mm512_sub_ps(_mm512_maskz_loadu_ps(pm, xp + a), _mm512_set1_ps(qx));               \
+    const __m512 pdx2 = _mm512_mul_ps(pdx, pdx), pvi = _mm512_set1_ps(inv), pvw = _mm512_set1_ps(wgt);
+#define ROWP1_AVX512(row, xp_, a_, b_, qx_, dyz2, inv_, wgt_) rowp1_avx512((row) + a, pm, pdx2, dyz2, pvi, pvw)
+__attribute__((target("avx512f"))) INLINE void rowp1_avx512(float *row, __mmask16 m, __m512 dx2, float dyz2, __m512 vi,
+                                                            __m512 vw)
+{
+    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
+    const __m512 quarter = _mm512_set1_ps(0.25f);
+    __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(dx2, _mm512_set1_ps(dyz2))), vi);
+    __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
+    __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
+    __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
+                             _mm512_mul_ps(_mm512_mul_ps(B, B), B));
+    _mm512_mask_storeu_ps(row, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row), _mm512_mul_ps(vw, w)));
+}
+
+static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 0, ) }
+static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 1, ) }
+static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2, ) }
+__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 0, ) }
+__attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 1, ) }
+__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2, ) }
+__attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(ROWD_AVX512, 0, SPREP_AVX512) }
+__attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWD_AVX512, 1, SPREP_AVX512) }
+__attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS)
+{
+    PARTIAL_BODY(ROWP1_AVX512, PREP_AVX512)
+}
 
 typedef void (*sample_fn)(SAMPLE_ARGS);
 static sample_fn chosen[3]; /* every node, spans, partial sums */
