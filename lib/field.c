@@ -153,7 +153,7 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
     const float r = c->r, inv_r = 1.0f / r, reach = r + c->margin, reach2 = reach * reach, inv_h = c->inv_h;
     const float floor_v = -c->margin * inv_r;
     /* 1.02: float slack on the bound below */
-    const float neck_reach = fminf(reach, 1.02f * r), neck_len = 1.5707f * r;
+    const float neck_reach = fminf(reach, 1.02f * r);
     size_t nn = (size_t)n * n * n;
     for (size_t i = 0; i < nn; i++) {
         f[i] = floor_v;
@@ -196,7 +196,7 @@ JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm
             for (uint32_t e = g->nb_start[p]; e < g->nb_start[p + 1]; e++) {
                 const float *u = &g->nb_dir[4 * (size_t)e];
                 const float half = 0.5f * u[3];
-                const float nr = half <= neck_len ? neck_reach : reach;
+                const float nr = jm_neck_reach(r, u[3], neck_reach, reach);
                 float lo[3], hi[3];
                 for (int a = 0; a < 3; a++) {
                     float m = q[a] + u[a] * half;

@@ -92,6 +92,14 @@ static inline float jm_sin_quarter(float t)
     return t * (1.0f + t2 * (-1.0f / 6 + t2 * (1.0f / 120 + t2 * (-1.0f / 5040 + t2 * (1.0f / 362880)))));
 }
 
+/* How far a splat reaches from a neck's axis, D its link's length: up to
+ * pi/2 r along its axis a half-neck beats its own ball only closer than r to
+ * the axis (field.c), so a short link uses short_reach (about r), a long one
+ * reach. The node splat, the probe and the crease normals share the rule. */
+static inline float jm_neck_reach(float r, float D, float short_reach, float reach)
+{
+    return 0.5f * D <= 1.5707f * r ? short_reach : reach;
+}
 /* cos(t) for t in [0, pi/2], |error| < 2e-7, no libm call */
 static inline float jm_cos_quarter(float t)
 {

@@ -48,7 +48,7 @@ typedef struct pass {
     float thr, inv_tau, inv_r;
     float rb2; /* squared: beyond this from its particle a ball is out of the band */
     float *vm; /* the fused pass (jm_meta_normals_probe): the probe's largest values, or NULL */
-    float neck_len, rn_probe, rb_probe; /* the probe's reach of a neck from its axis (jm_probe_pieces) */
+    float r, rn_probe, rb_probe; /* the probe's reach of a neck from its axis (jm_neck_reach) */
     int clo[3], chi[3]; /* a pass over a few vertices: the parts that hold any */
 } pass;
 
@@ -317,7 +317,7 @@ static void fused_link(void *ctx, const int lo[3], const int hi[3], const float 
 {
     const pass *P = ctx;
     /* the probe's reach from the axis (jm_probe_pieces) */
-    const float rp = 0.5f * u[3] <= P->neck_len ? P->rn_probe : P->rb_probe;
+    const float rp = jm_neck_reach(P->r, u[3], P->rn_probe, P->rb_probe);
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
         link8p(ctx, lo, hi, q, u, D, rr2, rp * rp);
@@ -362,7 +362,7 @@ static pass make_pass(const jm_config *c, int B, const float *x, const float *y,
      * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
     const float rb = band_reach(c);
     pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau,
-              1.0f / c->r, rb * rb, NULL, 1.5707f * c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}};
+              1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}};
     return P;
 }
 int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,

@@ -289,7 +289,7 @@ void jm_probe_pieces(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
 {
     const float x0[3] = {x[0], y[0], z[0]};
     const double inv_hd = 1.0 / (double)c->h;
-    const float rb = v->rb, neck_len = 1.5707f * c->r;
+    const float rb = v->rb;
     const float blo[3] = {x[0] - c->influence, y[0] - c->influence, z[0] - c->influence};
     const float bhi[3] = {x[B] + c->influence, y[B] + c->influence, z[B] + c->influence};
     const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
@@ -309,7 +309,7 @@ void jm_probe_pieces(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
                                qm[2] < blo[2] || qm[2] > bhi[2]))
                     continue;
                 const float *u = &g->nb_dir[4 * (size_t)e];
-                const float rr = 0.5f * u[3] <= neck_len ? v->rn : rb;
+                const float rr = jm_neck_reach(c->r, u[3], v->rn, rb);
                 for (int a = 0; a < 3; a++) {
                     l3[a] = (qm[a] < q[a] ? qm[a] : q[a]) - rr;
                     h3[a] = (qm[a] > q[a] ? qm[a] : q[a]) + rr;
