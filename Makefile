@@ -26,9 +26,9 @@ LIB_LIBS     = -lmeshoptimizer
 LIBS         = $(FMT_LIBS) $(LIB_LIBS) -lstdc++ -lm -pthread
 
 LIB_SRC   := $(wildcard lib/*.c)
-FMT_CSRC  := $(wildcard formats/*.c)
-FMT_XSRC  := $(wildcard formats/*.cpp)
-CLI_SRC   := $(wildcard cli/*.c)
+FMT_CSRC  := $(wildcard formats/*.c formats/*/*.c)
+FMT_XSRC  := $(wildcard formats/*.cpp formats/*/*.cpp)
+CLI_SRC   := $(wildcard cli/*.c cli/*/*.c)
 TUTIL_SRC := $(wildcard tests/util/*.c)
 TEST_SRC  := $(wildcard tests/test_*.c)
 TOOL_SRC  := $(wildcard tests/tools/*.c)

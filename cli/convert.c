@@ -9,7 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "../formats/gltf_anim.h"
+#include "../formats/gltf/gltf_anim.h"
 #include "../formats/reader.h"
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
@@ -23,7 +23,7 @@
 #include "shard.h"
 #include "signals.h"
 #include "stale.h"
-#include "stats.h"
+#include "stats/stats.h"
 #include "vertex_attrs.h"
 
 /* One frame to convert. */

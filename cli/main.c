@@ -3,12 +3,12 @@
 #include <string.h>
 
 #include "../lib/jetmesh.h"
-#include "bench.h"
+#include "bench/bench.h"
 #include "blender_script.h"
 #include "convert.h"
 #include "generate.h"
 #include "options.h"
-#include "stats_merge.h"
+#include "stats/stats_merge.h"
 
 static void usage(FILE *f)
 {

@@ -12,7 +12,7 @@
 
 #include "platform.h"
 #include "scenes.h"
-#include "stats.h"
+#include "stats/stats.h"
 
 int options_usage_error(const char *cmd, const char *fmt, ...)
 {

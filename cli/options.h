@@ -36,7 +36,7 @@ typedef struct convert_options {
                                 first frame by jm_choose_field */
     shard_spec shard;        /* --shard I/N: this process's share (count 0: all) */
     /* sequences for Blender, ParaView and the web (vertex_attrs.c, pvd.c,
-       formats/gltf_anim.h) */
+       formats/gltf/gltf_anim.h) */
     const char *attributes;  /* --attributes LIST|all: per-particle arrays
                                 carried onto the vertices; NULL none */
     char *attributes_all;    /* "all" resolved from the first frame (owned) */

@@ -1,5 +1,5 @@
 /* reader.c - jmf_read_particles(_mem): reads the file, unwraps gzip, detects the format and runs its reader. */
-#include "readbuf.h"
+#include "read/readbuf.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -10,9 +10,9 @@
 #include "atomic_file.h"
 #include "draco_wrap.h"
 #include "draco_bits.h"
-#include "gltf_wrap.h"
-#include "gltf_anim.h"
-#include "write_formats.h"
+#include "gltf/gltf_wrap.h"
+#include "gltf/gltf_anim.h"
+#include "write/write_formats.h"
 
 static const char *const k_names[] = {"auto", "obj", "gltf", "glb", "drc", "ply", "vtk"};
 #define N_FORMATS ((int)(sizeof k_names / sizeof k_names[0]))

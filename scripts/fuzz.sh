@@ -29,7 +29,7 @@ corpus_max_bytes=2097152
 command -v "$cc" >/dev/null 2>&1 || { echo "fuzz: $cc not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 2; }
 mkdir -p "$out"
 # the readers only: not the C++ writers or other format code
-srcs="$root/formats/reader.c $root/formats/readbuf.c $(ls "$root"/formats/read_*.c)"
+srcs="$root/formats/reader.c $root/formats/read/readbuf.c $(ls "$root"/formats/read/read_*.c)"
 
 build() { # target
   echo "fuzz: building fuzz_$1"

@@ -18,7 +18,7 @@
 #include <unistd.h>
 
 #include "../formats/atomic_file.h"
-#include "../formats/write_formats.h"
+#include "../formats/write/write_formats.h"
 #include "../formats/writer.h"
 #include "util/files.h"
 #include "util/test_meshes.h"

@@ -11,11 +11,11 @@
 #include <malloc.h>
 #endif
 
-#include "../formats/writer.h"
+#include "../../formats/writer.h"
 #include "bench_options.h"
-#include "param_errors.h"
-#include "platform.h"
-#include "scenes.h"
+#include "../param_errors.h"
+#include "../platform.h"
+#include "../scenes.h"
 
 void bench_load_input(const bench_opts *o, bench_input *in)
 {

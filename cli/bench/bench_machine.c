@@ -6,7 +6,7 @@
 #include <sys/utsname.h>
 #include <time.h>
 
-#include "platform.h"
+#include "../platform.h"
 
 void bench_machine_info(bench_machine *m)
 {

@@ -3,9 +3,9 @@
 #define JETMESH_FORMATS_WRITE_FORMATS_H
 
 #include <stddef.h>
-#include "atomic_file.h"
-#include "reader.h" /* jmf_attribute */
-#include "../lib/jetmesh.h"
+#include "../atomic_file.h"
+#include "../reader.h" /* jmf_attribute */
+#include "../../lib/jetmesh.h"
 
 #ifdef __cplusplus
 extern "C" {

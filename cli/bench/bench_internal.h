@@ -5,8 +5,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "../formats/reader.h"
-#include "../lib/jetmesh.h"
+#include "../../formats/reader.h"
+#include "../../lib/jetmesh.h"
 #include "bench_stats.h"
 
 #define BENCH_MAX_LIST 16 /* values of one list option (--cube-size, --threads) */

@@ -12,8 +12,8 @@
 #include "bench_options.h"
 #include "bench_report.h"
 #include "bench_run.h"
-#include "options.h"
-#include "signals.h"
+#include "../options.h"
+#include "../signals.h"
 
 static int is_spray(const bench_input *in)
 {

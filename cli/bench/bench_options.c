@@ -8,11 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../formats/writer.h"
-#include "numbers.h"
-#include "options.h"
-#include "platform.h"
-#include "scenes.h"
+#include "../../formats/writer.h"
+#include "../numbers.h"
+#include "../options.h"
+#include "../platform.h"
+#include "../scenes.h"
 
 #define CMD "bench"
 

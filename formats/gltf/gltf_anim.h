@@ -3,7 +3,7 @@
 #define JETMESH_FORMATS_GLTF_ANIM_H
 
 #include <stddef.h>
-#include "writer.h"
+#include "../writer.h"
 #include "gltf_wrap.h"
 
 #ifdef __cplusplus

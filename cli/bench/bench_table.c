@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "bench_options.h"
-#include "platform.h"
+#include "../platform.h"
 
 static const char *fmt_ms(double ms, char *buf, size_t len)
 {

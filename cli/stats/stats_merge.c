@@ -5,11 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/jetmesh.h"
-#include "convert.h"
-#include "options.h"
-#include "platform.h"
-#include "sequence.h"
+#include "../../lib/jetmesh.h"
+#include "../convert.h"
+#include "../options.h"
+#include "../platform.h"
+#include "../sequence.h"
 #include "stats.h"
 #include "stats_read.h"
 

@@ -5,10 +5,10 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
-#include "reader.h"
+#include "../reader.h"
 
 /*
- * Conventions of the readers (formats/read_*.c):
+ * Conventions of the readers (formats/read/read_*.c):
  *  - Input is a complete, already gunzipped buffer (data, size); it is never
  *    NUL-terminated and readers never read outside [data, data + size).
  *  - Errors go through jmr_fail(); the message is one line (control bytes are

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../formats/atomic_file.h"
-#include "../lib/jetmesh.h"
+#include "../../formats/atomic_file.h"
+#include "../../lib/jetmesh.h"
 
 static char *dup_or_null(const char *s)
 {

@@ -3,9 +3,9 @@
 #define JETMESH_FORMATS_GLTF_WRAP_H
 
 #include <stddef.h>
-#include "reader.h" /* jmf_status */
-#include "draco_wrap.h"
-#include "../lib/jetmesh.h"
+#include "../reader.h" /* jmf_status */
+#include "../draco_wrap.h"
+#include "../../lib/jetmesh.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -5,8 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../formats/atomic_file.h"
-#include "../lib/jetmesh.h"
+#include "../../formats/atomic_file.h"
+#include "../../lib/jetmesh.h"
 
 #define STAGES 5
 
