@@ -184,24 +184,28 @@ static int folds(const float *restrict P, const float *restrict N, const float *
 }
 #endif
 
+/* the capacity of the lists of triangles the fold rounds keep; past it
+ * they fall back to every triangle (the same result); variants 2 and 3 (a
+ * build option for tests, see t_splat_variants.sh) take that path */
+#if JM_SPLAT_VARIANT >= 2
+#define FINISH_LIST(nt) ((size_t)16 + 0 * (nt))
+#else
+#define FINISH_LIST(nt) ((nt) / 8 + 64)
+#endif
 /* rounds that halve the offsets of a folded triangle's vertices before
  * they are zeroed */
 #define FOLD_HALVINGS 4
-/* Normals facing their triangles. flag: nv bytes of scratch; C1, where
- * not NULL, each triangle's normal (x2 area) at P unless changed marks one
- * of its vertices. A corner
- * faces its triangle when the cosine between the vertex normal and the
- * triangle's exceeds COS_MIN; each vertex with a corner that does not
- * gathers its triangles' unit normals, and its normal is pushed toward
- * those it fails (by their sum, renormalised) until it faces all of them,
- * keeping the best of a few steps (a fan folded over itself may have no
- * normal facing every triangle). */
-static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
-                        size_t nt, uint8_t *flag, const float *C1, const uint8_t *changed)
+/* Which vertices have a corner that does not face its triangle: flag[v]
+ * set (flag: nv bytes, zeroed by the caller), their count returned. The
+ * triangles listed in tl (nl of them), or every triangle when tl is NULL,
+ * are tested at P; C1, where not NULL, holds each triangle's normal (x2
+ * area) at P unless changed marks one of its vertices. */
+static size_t flag_away(const float *restrict P, const float *restrict N, const uint32_t *idx, const uint32_t *tl,
+                        size_t nl, uint8_t *flag, const float *C1, const uint8_t *changed)
 {
-    memset(flag, 0, nv);
     size_t bad = 0;
-    for (size_t t = 0; t < nt; t++) {
+    for (size_t j = 0; j < nl; j++) {
+        const size_t t = tl ? tl[j] : j;
         const uint32_t *vi = idx + 3 * t;
         const int away = C1 && !(changed[vi[0]] | changed[vi[1]] | changed[vi[2]]) ? stored_away(N, vi, C1 + 4 * t)
                                                                                   : corners_away(P, N, vi);
@@ -213,6 +217,18 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
             }
         }
     }
+    return bad;
+}
+
+/* Normals facing their triangles: each of the bad vertices flagged by
+ * flag_away (a corner whose cosine between the vertex normal and the
+ * triangle's does not exceed COS_MIN) gathers its triangles' unit normals,
+ * and its normal is pushed toward those it fails (by their sum,
+ * renormalised) until it faces all of them, keeping the best of a few steps
+ * (a fan folded over itself may have no normal facing every triangle). */
+static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
+                        size_t nt, const uint8_t *flag, size_t bad)
+{
     if (!bad) return 1;
     /* the flagged vertices' triangles: (slot, unit normal) for each corner
      * at one, then sorted by slot */
@@ -319,6 +335,9 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
     float *C = NULL;
     const size_t csz = compensate ? 4 * (nt + 1) * sizeof *C : 0;
     uint8_t *changed = (uint8_t *)acc + nv;
+    uint32_t *watch = NULL, *awl = NULL;
+    size_t capw = 0, nw = 0, na = 0;
+    int listed = 1;
     if (compensate) {
         C = jm_alloc(mem, csz);
         if (!C) {
@@ -348,33 +367,59 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
          * After the first round (every triangle), a round looks only at the
          * triangles with a vertex whose offset has changed: the others keep
          * the offsets with which that round found them not folded. */
+        /* The triangles of the rounds after the first (watch: those with a
+         * changed vertex, in any order: a round's result does not depend on
+         * it) and those the first found with a corner not facing it (awl:
+         * the first round's moved normal is the facing test's where no
+         * vertex changes after it); the vertices a round flags (hit). */
         uint8_t *flag = (uint8_t *)acc;
-        const size_t capw = nt / 8 + 64;
-        uint32_t *watch = jm_alloc(mem, capw * sizeof *watch);
+        capw = FINISH_LIST(nt);
+        watch = jm_alloc(mem, (2 * capw + nv) * sizeof *watch);
         if (!watch) {
             jm_free(mem, C, csz);
             jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
             return 0;
         }
+        awl = watch + capw;
+        uint32_t *const hit = awl + capw;
         memset(changed, 0, nv);
-        size_t nw = 0;
+        memset(flag, 0, nv);
         for (int round = 0, all = 1;; round++) {
-            memset(flag, 0, nv);
-            size_t folded = 0, fresh = 0;
+            size_t folded = 0, fresh = 0, nh = 0;
             const size_t count = all ? nt : nw;
             for (size_t j = 0; j < count; j++) {
                 const size_t t = all ? j : watch[j];
                 const uint32_t *v = idx + 3 * t;
-                if (!(round ? folds(P, N, D, v, NULL) : folds(P, N, D, v, C + 4 * t))) continue;
+                int f;
+                if (round) f = folds(P, N, D, v, NULL);
+                else {
+                    f = folds(P, N, D, v, C + 4 * t);
+                    if (facing && stored_away(N, v, C + 4 * t)) {
+                        if (na < capw) awl[na++] = (uint32_t)t;
+                        else listed = 0;
+                    }
+                }
+                if (!f) continue;
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
-                    flag[v[k]] = changed[v[k]] = 1;
+                    changed[v[k]] = 1;
+                    if (!flag[v[k]]) {
+                        flag[v[k]] = 1;
+                        hit[nh++] = v[k];
+                    }
                 }
                 folded++;
             }
-            if (!folded) break;
-            for (size_t i = 0; i < nv; i++)
-                if (flag[i]) D[i] = round < FOLD_HALVINGS ? 0.5f * D[i] : 0.0f;
+            if (!folded) {
+                /* watch lists every triangle with a changed vertex unless
+                 * it overflowed (none changed when the first round ends it) */
+                if (all && round) listed = 0;
+                break;
+            }
+            for (size_t h = 0; h < nh; h++) {
+                D[hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[hit[h]] : 0.0f;
+                flag[hit[h]] = 0;
+            }
             if (!fresh) continue;
             nw = 0, all = 0; /* too many to list: every triangle */
             for (size_t t = 0; t < nt && !all; t++)
@@ -383,11 +428,24 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
                     else watch[nw++] = (uint32_t)t;
                 }
         }
-        jm_free(mem, watch, capw * sizeof *watch);
         for (size_t i = 0; i < nv; i++)
             for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
     }
-    const int ok = !facing || face_normals(mem, pos, nrm, nv, idx, nt, (uint8_t *)acc, C, changed);
+    int ok = 1;
+    if (facing) {
+        /* every triangle's facing at the moved positions: where the rounds
+         * listed them, those the first round found away and are unchanged
+         * (the others, unchanged, face) and those with a changed vertex */
+        uint8_t *flag = (uint8_t *)acc;
+        size_t bad;
+        memset(flag, 0, nv);
+        if (compensate && listed)
+            bad = flag_away(pos, nrm, idx, awl, na, flag, C, changed) +
+                  flag_away(pos, nrm, idx, watch, nw, flag, NULL, changed);
+        else bad = flag_away(pos, nrm, idx, NULL, nt, flag, C, changed);
+        ok = face_normals(mem, pos, nrm, nv, idx, nt, flag, bad);
+    }
+    jm_free(mem, watch, (2 * capw + nv) * sizeof *watch);
     jm_free(mem, C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
     return ok;
