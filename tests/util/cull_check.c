@@ -1,5 +1,6 @@
-/* cull_check.c - culling tests' shared parts: the same mesh bytes with culling on and off, and a lattice block with holes. */
+/* cull_check.c - culling tests' shared parts: the same mesh bytes with culling on and off, on the real frames and on a lattice block with holes. */
 #include "cull_check.h"
+#include "shared_data.h"
 #include "test_meshes.h"
 #include <stdio.h>
 #include <stdlib.h>
@@ -94,4 +95,72 @@ float *cull_holed_block(float r, size_t *n)
     }
     *n = k3;
     return xyz;
+}
+
+const char *const cull_frames[CULL_FRAMES] = {
+    "derived/dam_break_frame_23_24389_particles.xyz",
+    "splashsurf/bunny_frame_14_7705_particles.vtk",
+    "splashsurf/double_dam_break_frame_26_4732_particles.vtk",
+    "splashsurf/ParticleData_Random_1000.vtk",
+    "splashsurf/hilbert2_7954_particles.vtk",
+};
+
+/* one case: the same bytes, its triangle count printed */
+static int one_case(const char *what, const jm_params *p, const float *xyz, size_t count, char *err, size_t errsz)
+{
+    size_t nt = 0;
+    if (cull_same_bytes(what, p, xyz, count, &nt, err, errsz) != 0) return -1;
+    printf("%s: %zu triangles, the same bytes culled and not\n", what, nt);
+    return 0;
+}
+
+int cull_real_frames(int nvariants, cull_case fill, char *err, size_t errsz)
+{
+    int ran = 0;
+    for (size_t k = 0; k < CULL_FRAMES; k++) {
+        jmf_frame fr;
+        int got = test_read_shared(cull_frames[k], NULL, &fr, err, errsz);
+        if (got < 0) return -1;
+        if (!got) continue;
+        int rc = 0;
+        for (int me = JM_METHOD_MT; me <= JM_METHOD_MC && rc == 0; me++)
+            for (int v = 0; v < nvariants && rc == 0; v++) {
+                jm_params p = {0};
+                char what[256];
+                if (fill(k, me, v, &p, what, sizeof what)) rc = one_case(what, &p, fr.xyz, fr.count, err, errsz);
+            }
+        jmf_frame_free(&fr);
+        if (rc) return -1;
+        ran++;
+    }
+    return ran ? 0 : 1;
+}
+
+int cull_holed_block_cases(int anisotropic, char *err, size_t errsz)
+{
+    const float r = 0.025f;
+    size_t n = 0;
+    float *xyz = cull_holed_block(r, &n);
+    if (!xyz) {
+        snprintf(err, errsz, "block with holes: no memory");
+        return -1;
+    }
+    int rc = 0;
+    for (int me = JM_METHOD_MT; me <= JM_METHOD_MC && rc == 0; me++) {
+        const char *m = me == JM_METHOD_MC ? "mc" : "mt";
+        char what[128];
+        jm_params p = {0};
+        p.radius = r;
+        p.field = JM_FIELD_SPH;
+        p.method = (jm_method)me;
+        p.anisotropic = anisotropic;
+        snprintf(what, sizeof what, "block with holes, %s", m);
+        rc = one_case(what, &p, xyz, n, err, errsz);
+        p.threshold = 0.35f;
+        p.cube_size = 0.4f;
+        snprintf(what, sizeof what, "block with holes, %s, thr 0.35, cube 0.4", m);
+        if (rc == 0) rc = one_case(what, &p, xyz, n, err, errsz);
+    }
+    free(xyz);
+    return rc;
 }
