@@ -47,7 +47,7 @@ CLI   = $(BUILD)/jetmesh
 
 .SECONDARY:
 
-.PHONY: all deps deps-build check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
+.PHONY: all deps deps-build print-libs check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
@@ -98,6 +98,11 @@ check: deps
 
 tests-build: $(TEST_BIN) $(TOOL_BIN) $(CLI)
 
+# the CLI's link libraries, for a test that links the CLI's objects with a
+# library built otherwise (t_splat_variants.sh)
+print-libs:
+	@echo $(LIBS)
+
 test-unit: tests-build
 	@tests/run_all.sh $(BUILD) unit
 
@@ -146,6 +151,6 @@ install: all
 	    share/jetmesh.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/jetmesh.pc
 
 clean:
-	rm -rf $(BUILD) build-asan build-tsan build-splat1 build-splat2
+	rm -rf $(BUILD) build-asan build-tsan build-splat1 build-splat2 build-splat3
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
