@@ -39,7 +39,8 @@ typedef int (*cull_case)(size_t k, int me, int v, jm_params *p, char *what, size
  * cull_same_bytes on the variants 0..nvariants-1 of every real frame and
  * method (mt, mc) that fill keeps, printing each case's triangle count.
  * Returns 0 when every case passes, 1 when no real frame is found (nothing
- * ran), -1 with why in err at the first that fails.
+ * ran), -1 with why in err at the first that fails. With JETMESH_TEST_SMALL
+ * set in the environment, the first two (the bench frames) are left out.
  */
 int cull_real_frames(int nvariants, cull_case fill, char *err, size_t errsz);
 
