@@ -383,8 +383,11 @@ done:;
     return dot3(d, d);
 }
 
-/* Distance from p to the surface of g's mesh, or pad if at least pad. */
-static double distance_to(const tri_grid *g, const float pf[3], double pad)
+/* Distance from p to the surface of g's mesh, or pad if at least pad; or,
+ * as soon as a triangle is found within `enough` of p, a distance of at
+ * most `enough` (a caller after the largest distance need not know
+ * which). */
+static double distance_to(const tri_grid *g, const float pf[3], double pad, double enough)
 {
     int c[3];
     for (int a = 0; a < 3; a++) {
@@ -400,6 +403,7 @@ static double distance_to(const tri_grid *g, const float pf[3], double pad)
             for (int a = 0; a < 3; a++) v[j][a] = g->m->positions[3 * t[j] + a];
         double d = point_tri2(p, v[0], v[1], v[2]);
         if (d < best) best = d;
+        if (best <= enough * enough) break;
     }
     return sqrt(best);
 }
@@ -425,7 +429,7 @@ static double hausdorff(const jm_mesh *a, const jm_mesh *b, double pad)
                 pts[6][a] = (v[0][a] + v[1][a] + v[2][a]) / 3.0f;
             }
             for (int k = 0; k < 7; k++) {
-                double d = distance_to(&g, pts[k], pad);
+                double d = distance_to(&g, pts[k], pad, worst);
                 if (d > worst) worst = d;
             }
         }
@@ -451,7 +455,9 @@ static void check_simplified(const char *what, const test_mesh *raw, const test_
     assert_true(mc_check(&raw->mesh, &r0));
     if (!mc_check(&sim->mesh, &r1)) fail_msg("%s simplified: %s", what, r1.problem);
     double frac = (double)sim->mesh.triangle_count / (double)raw->mesh.triangle_count;
-    double d = hausdorff(&raw->mesh, &sim->mesh, 1.0 * R);
+    /* distances measured up to 0.3 r (the bound below is 0.25 r): a point
+     * farther reads 0.3 and fails it */
+    double d = hausdorff(&raw->mesh, &sim->mesh, 0.3 * R);
     printf("%s: %zu -> %zu triangles (%.1f %%), max distance %.3f r, volume %+.2f %%, normals away from their "
            "faces %zu -> %zu\n",
            what, raw->mesh.triangle_count, sim->mesh.triangle_count, 100 * frac, d / R, 100 * (r1.volume / r0.volume - 1),
