@@ -27,6 +27,46 @@ static uint32_t find(uint32_t *p, uint32_t x)
     return x;
 }
 
+/* The signed volume of the tetrahedron (o, pa, pb, pc): a . (b x c) / 6
+ * with a = pa - o (and so on) in double, the SSE2 version doing the same
+ * operations on pairs of lanes (the same bits; variant 1 of
+ * t_splat_variants.sh builds the plain one). */
+#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
+#include <emmintrin.h>
+static inline double volume_term(const float *pa, const float *pb, const float *pc, const double o[3])
+{
+    const __m128d o01 = _mm_loadu_pd(o), o2 = _mm_set_sd(o[2]);
+    /* (x, y) and z of each corner, less o */
+    const __m128d a01 = _mm_sub_pd(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)pa))), o01);
+    const __m128d b01 = _mm_sub_pd(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)pb))), o01);
+    const __m128d c01 = _mm_sub_pd(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)pc))), o01);
+    const __m128d a2 = _mm_sub_sd(_mm_cvtss_sd(_mm_setzero_pd(), _mm_load_ss(pa + 2)), o2);
+    const __m128d b2 = _mm_sub_sd(_mm_cvtss_sd(_mm_setzero_pd(), _mm_load_ss(pb + 2)), o2);
+    const __m128d c2 = _mm_sub_sd(_mm_cvtss_sd(_mm_setzero_pd(), _mm_load_ss(pc + 2)), o2);
+    /* (b1 c2 - b2 c1, b0 c2 - b2 c0) */
+    const __m128d b2b2 = _mm_unpacklo_pd(b2, b2), c2c2 = _mm_unpacklo_pd(c2, c2);
+    const __m128d m = _mm_sub_pd(_mm_mul_pd(_mm_shuffle_pd(b01, b01, 1), c2c2), _mm_mul_pd(b2b2, _mm_shuffle_pd(c01, c01, 1)));
+    /* (a0 m0, a1 m1), then b0 c1 - b1 c0 */
+    const __m128d am = _mm_mul_pd(a01, m);
+    const __m128d bc = _mm_mul_pd(b01, _mm_shuffle_pd(c01, c01, 1));
+    const double m2 = _mm_cvtsd_f64(_mm_sub_sd(bc, _mm_unpackhi_pd(bc, bc)));
+    const double s = _mm_cvtsd_f64(_mm_sub_sd(am, _mm_unpackhi_pd(am, am))) + _mm_cvtsd_f64(a2) * m2;
+    return s / 6.0;
+}
+#else
+static inline double volume_term(const float *pa, const float *pb, const float *pc, const double o[3])
+{
+    double a[3], b[3], c[3];
+    for (int k = 0; k < 3; k++) {
+        a[k] = pa[k] - o[k];
+        b[k] = pb[k] - o[k];
+        c[k] = pc[k] - o[k];
+    }
+    return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+            a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+}
+#endif
+
 int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
                            size_t *ni, double max_volume, size_t *out_removed)
 {
@@ -62,20 +102,13 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
     double acc = 0.0;
     for (size_t t = 0; t < nt; t++) {
         const uint32_t *i = idx + 3 * t;
-        double a[3], b[3], c[3];
-        for (int k = 0; k < 3; k++) {
-            a[k] = pos[3 * i[0] + k] - o[k];
-            b[k] = pos[3 * i[1] + k] - o[k];
-            c[k] = pos[3 * i[2] + k] - o[k];
-        }
         const uint32_t root = parent[i[0]];
         if (root != cur) {
             vol[cur] = acc;
             cur = root;
             acc = vol[root];
         }
-        acc += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
+        acc += volume_term(pos + 3 * (size_t)i[0], pos + 3 * (size_t)i[1], pos + 3 * (size_t)i[2], o);
     }
     vol[cur] = acc;
     size_t removed = 0;
