@@ -495,6 +495,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     jm_block_set bs;
     s = build_blocks(c, &g, mem, &bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
+    jm_grid_drop_coords(&g, mem); /* read no more */
     st->particles = in->count;
     st->isolated = g.n_isolated;
     st->blocks = bs.count;
