@@ -252,6 +252,12 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     memset(g, 0, sizeof *g);
 }
 
+void jm_grid_drop_coords(jm_grid *g, jm_mem *mem)
+{
+    jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
+    g->cell_coord = NULL;
+}
+
 jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c, const jm_particles *in)
 {
     memset(g, 0, sizeof *g);
@@ -291,11 +297,12 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         if (dom != JM_OK) return dom;
     }
 
-    /* processing order: input order, or by id */
-    uint32_t *order = jm_alloc(mem, (n ? n : 1) * sizeof *order);
-    if (!order) return JM_E_OUT_OF_MEMORY;
-    for (size_t i = 0; i < n; i++) order[i] = (uint32_t)i;
+    /* processing order: input order (order stays NULL), or by id */
+    uint32_t *order = NULL;
     if (in->ids && n > 1) {
+        order = jm_alloc(mem, n * sizeof *order);
+        if (!order) return JM_E_OUT_OF_MEMORY;
+        for (size_t i = 0; i < n; i++) order[i] = (uint32_t)i;
         uint32_t *tmp = jm_alloc(mem, n * sizeof *tmp);
         if (!tmp) { jm_free(mem, order, n * sizeof *order); return JM_E_OUT_OF_MEMORY; }
         sort_by_id(order, tmp, n, in->ids);
@@ -325,15 +332,21 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     } else {
         st = jm_hashmap_init(&g->cells, mem, n / 2 + 16);
     }
-    uint32_t *pcell = jm_alloc(mem, (n ? n : 1) * sizeof *pcell);
+    /* each particle's cell, kept for the pass that places the particles
+     * where the hash map answers (a dense index answers again in one load) */
+    uint32_t *pcell = NULL;
+    if (st == JM_OK && !g->dense) {
+        pcell = jm_alloc(mem, (n ? n : 1) * sizeof *pcell);
+        if (!pcell) st = JM_E_OUT_OF_MEMORY;
+    }
     uint32_t *count = NULL;
     size_t count_cap = 0;
-    if (st != JM_OK || !pcell) { st = st ? st : JM_E_OUT_OF_MEMORY; goto fail; }
+    if (st != JM_OK) goto fail;
     /* cells numbered in order of first appearance; grow the map as needed */
     size_t ncells = 0;
     for (size_t k = 0; k < n; k++) {
         float p[3];
-        load_units(p, base + (size_t)order[k] * stride, c->unit_in);
+        load_units(p, base + (size_t)(order ? order[k] : k) * stride, c->unit_in);
         int64_t cx = (int64_t)floorf(p[0] * g->inv_cell) - g->origin[0];
         int64_t cy = (int64_t)floorf(p[1] * g->inv_cell) - g->origin[1];
         int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
@@ -371,7 +384,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             *v = (uint32_t)ncells++;
         }
         count[4 * *v]++;
-        pcell[k] = *v;
+        if (pcell) pcell[k] = *v;
     }
     g->ncells = ncells;
     g->cell_start = jm_alloc(mem, (ncells + 1) * sizeof *g->cell_start);
@@ -388,8 +401,18 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     }
     g->cell_start[ncells] = acc;
     for (size_t k = 0; k < n; k++) {
-        uint32_t dst = count[4 * pcell[k]]++;
-        load_units(GP(g, dst), base + (size_t)order[k] * stride, c->unit_in);
+        float p[3];
+        load_units(p, base + (size_t)(order ? order[k] : k) * stride, c->unit_in);
+        uint32_t ci;
+        if (pcell) {
+            ci = pcell[k];
+        } else { /* the dense index, as the first pass found the cell */
+            size_t d0 = (size_t)((int64_t)floorf(p[0] * g->inv_cell) - g->dense_lo[0]);
+            size_t d1 = (size_t)((int64_t)floorf(p[1] * g->inv_cell) - g->dense_lo[1]);
+            size_t d2 = (size_t)((int64_t)floorf(p[2] * g->inv_cell) - g->dense_lo[2]);
+            ci = g->dense[(d2 * (size_t)g->dense_n[1] + d1) * (size_t)g->dense_n[0] + d0];
+        }
+        memcpy(GP(g, count[4 * ci]++), p, sizeof p);
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);
     count = NULL;

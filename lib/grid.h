@@ -7,6 +7,10 @@
 jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c,
                         const jm_particles *in);
 void jm_grid_free(jm_grid *g, jm_mem *mem);
+/* Frees the cells' coordinates (12 bytes a cell), which only the building
+ * of the grid, the kernels and the blocks read: the field and the later
+ * stages find cells by their coordinates, never the reverse. */
+void jm_grid_drop_coords(jm_grid *g, jm_mem *mem);
 /* Cell index of absolute cell coordinates, or UINT32_MAX if empty/out of range. */
 static inline uint32_t jm_grid_cell(const jm_grid *g, int64_t x, int64_t y, int64_t z)
 {

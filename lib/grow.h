@@ -12,5 +12,9 @@ void *jm_grow(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes);
 /* Frees an array of jm_grow (bytes: its size there); NULL is fine. */
 void jm_grow_free(jm_mem *m, void *p, size_t bytes);
 
+/* Does an array of this many bytes grow and shrink by moving pages
+ * (no copy), so that it can grow in small steps? */
+int jm_grow_moves(size_t bytes);
+
 #define JM_GROW_MAP ((size_t)1 << 20)
 #endif

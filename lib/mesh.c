@@ -144,12 +144,22 @@ void jm_context_free(jm_context *ctx)
 }
 
 /* ---- output arrays */
+/* The next capacity of a mesh array of cap elements of elem bytes that
+ * must hold need: by half where growing copies the array; by an eighth
+ * where it moves pages (grow.h), so that the arrays at the end of the
+ * blocks (the frame's peak) hold at most an eighth more than the mesh. */
+static size_t next_cap(size_t cap, size_t need, size_t elem, size_t least)
+{
+    size_t nc = cap + (jm_grow_moves(cap * elem) ? cap / 8 : cap / 2);
+    if (nc < need) nc = need;
+    if (nc < least) nc = least;
+    return nc;
+}
+
 static int reserve_mesh(jm_context *ctx, size_t nv, size_t ni)
 {
     if (nv > ctx->capv) {
-        size_t nc = ctx->capv + ctx->capv / 2;
-        if (nc < nv) nc = nv;
-        if (nc < 1024) nc = 1024;
+        size_t nc = next_cap(ctx->capv, nv, 3 * sizeof(float), 1024);
         float *p = jm_grow(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
         if (!p) return 0;
         ctx->pos = p;
@@ -166,15 +176,43 @@ static int reserve_mesh(jm_context *ctx, size_t nv, size_t ni)
         ctx->capv = nc;
     }
     if (ni > ctx->capi) {
-        size_t nc = ctx->capi + ctx->capi / 2;
-        if (nc < ni) nc = ni;
-        if (nc < 3072) nc = 3072;
+        size_t nc = next_cap(ctx->capi, ni, sizeof(uint32_t), 3072);
         uint32_t *p = jm_grow(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t), nc * sizeof(uint32_t));
         if (!p) return 0;
         ctx->idx = p;
         ctx->capi = nc;
     }
     return 1;
+}
+
+/* After a frame: where shrinking moves pages (grow.h), the mesh arrays
+ * keep only what the mesh holds, so that the context carries no spare
+ * capacity into the next frame's peak (a frame as large grows them again
+ * without copying). A failed shrink keeps the arrays as they were. */
+static void trim_mesh(jm_context *ctx)
+{
+    size_t v = ctx->nv > 1024 ? ctx->nv : 1024, i = ctx->ni > 3072 ? ctx->ni : 3072;
+    if (ctx->capv > v && jm_grow_moves(v * 2 * sizeof(float))) {
+        float *p = jm_grow(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float), v * 3 * sizeof(float));
+        if (p) ctx->pos = p;
+        float *n = p ? jm_grow(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float), v * 3 * sizeof(float)) : NULL;
+        if (n) ctx->nrm = n;
+        float *u = n ? jm_grow(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float), v * 2 * sizeof(float)) : NULL;
+        if (u) {
+            ctx->uv = u;
+            ctx->capv = v;
+        } else { /* back to one capacity for the three */
+            if (n) ctx->nrm = jm_grow(&ctx->mem, ctx->nrm, v * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
+            if (p) ctx->pos = jm_grow(&ctx->mem, ctx->pos, v * 3 * sizeof(float), ctx->capv * 3 * sizeof(float));
+        }
+    }
+    if (ctx->capi > i && jm_grow_moves(i * sizeof(uint32_t))) {
+        uint32_t *p = jm_grow(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t), i * sizeof(uint32_t));
+        if (p) {
+            ctx->idx = p;
+            ctx->capi = i;
+        }
+    }
 }
 
 /* ---- the frame pipeline */
@@ -457,6 +495,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     jm_block_set bs;
     s = build_blocks(c, &g, mem, &bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
+    jm_grid_drop_coords(&g, mem); /* read no more */
     st->particles = in->count;
     st->isolated = g.n_isolated;
     st->blocks = bs.count;
@@ -704,6 +743,7 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
     }
     ctx->mem.limit = 0;
     if (s == JM_OK) {
+        trim_mesh(ctx);
         jm_unit_restore(ctx->pos, ctx->nv, ctx->cfg.unit); /* back to world units */
         jm_mesh *m = out_mesh;
         m->positions = ctx->pos;
