@@ -1,5 +1,6 @@
 /* aniso_splat.c - the anisotropic SPH field on a block: kernels splatted row by row (AVX-512/AVX2/SSE2/C), every node, spans or partial sums. */
 #include "aniso_splat.h"
+#include "cull.h"
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -202,12 +203,21 @@ INLINE void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn, const int mode, an_rows_
     for (int i = 0; i < ns; i++) xp[i] = i < n ? x[i] : x[n - 1] + (float)(i - n + 1) * h;
     for (int i = 0; i < ns; i++) yp[i] = i < n ? y[i] : y[n - 1] + (float)(i - n + 1) * h;
     memset(pad, 0, (size_t)n * n * ns * sizeof *pad);
+    jm_span_box sb;
+    if (mode == AN_SPAN) {
+        jm_span_box_of(span, n, &sb);
+        if (sb.k0 >= sb.k1) return;
+    }
     for (size_t ci = 0; ci < cand->n; ci++) {
         const float *a = AN(g, cand->idx[ci]);
         const float cx = a[0], cy = a[1], cz = a[2];
         if (cx + a[10] < x[0] || cx - a[10] > x[n - 1] || cy + a[11] < y[0] || cy - a[11] > y[n - 1] ||
             cz + a[12] < z[0] || cz - a[12] > z[n - 1])
             continue;
+        /* spans: a kernel whose box, a node wider, misses the spans' nodes
+         * adds to no span (its chords lie within its box and a hundredth of
+         * a node) */
+        if (mode == AN_SPAN && (cx + a[10] + h < x[sb.i0] || cx - a[10] - h > x[sb.i1 - 1])) continue;
         const float m00 = a[3], m01 = a[4], m02 = a[5], m11 = a[6], m12 = a[7], m22 = a[8];
         /* tests/t_aniso_cull_broken.sh: partial sums above the full ones
          * must fail test_aniso_cull */
@@ -224,6 +234,10 @@ INLINE void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn, const int mode, an_rows_
         }
         int k0, k1;
         node_span(z, n, inv_h, cz - a[12], cz + a[12], &k0, &k1);
+        if (mode == AN_SPAN) {
+            k0 = k0 > sb.k0 ? k0 : sb.k0;
+            k1 = k1 < sb.k1 ? k1 : sb.k1;
+        }
         for (int kk = k0; kk < k1; kk++) {
             const float dz = z[kk] - cz;
             const float qd = Qy * dz, dy_disc = qd * qd - Py * (Rz * dz * dz - 4.0f);
@@ -242,6 +256,11 @@ INLINE void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn, const int mode, an_rows_
                 const int ja = iceil(ccy + (-qd - si) * iPy * inv_h), jb = ifloor(ccy + (si - qd) * iPy * inv_h) + 1;
                 j0 = ja > j0 ? ja : j0;
                 j1 = jb < j1 ? jb : j1;
+            }
+            if (mode == AN_SPAN) {
+                /* the rows holding a span (each row's terms are its own) */
+                j0 = j0 > sb.j0[kk] ? j0 : sb.j0[kk];
+                j1 = j1 < sb.j1[kk] ? j1 : sb.j1[kk];
             }
             if (j0 >= j1) continue;
             sl.Bz = m02 * dz;

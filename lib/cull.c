@@ -63,7 +63,9 @@
  *    span, with s = a (mod 8) and t <= e. Each lane depends on its own node
  *    alone, so each node of a span gets the same terms in the same order as
  *    without culling: the same bits, on every SIMD path and for any thread
- *    count (each block decides alone).
+ *    count (each block decides alone). The span samplers skip the particles
+ *    and rows outside the spans' box (jm_span_box_of): their runs meet no
+ *    span, so no span node loses a term.
  *
  * Speed only (never the result): the partial pass runs on blocks about full
  * of particles (jm_sph_block_full), where most nodes are inside, and the
@@ -154,4 +156,29 @@ size_t jm_sph_spans(const float *part, int n, float threshold, uint8_t *span)
             nodes += (size_t)(b - a);
         }
     return nodes;
+}
+
+void jm_span_box_of(const uint8_t *span, int n, jm_span_box *b)
+{
+    b->k0 = n;
+    b->k1 = 0;
+    b->i0 = n;
+    b->i1 = 0;
+    for (int k = 0; k < n; k++) {
+        int j0 = n, j1 = 0;
+        for (int j = 0; j < n; j++) {
+            const uint8_t *sp = span + 2 * ((size_t)k * n + j);
+            if (sp[0] >= sp[1]) continue;
+            if (j0 == n) j0 = j;
+            j1 = j + 1;
+            b->i0 = sp[0] < b->i0 ? sp[0] : b->i0;
+            b->i1 = sp[1] > b->i1 ? sp[1] : b->i1;
+        }
+        b->j0[k] = j0;
+        b->j1[k] = j1;
+        if (j0 < j1) {
+            b->k0 = k < b->k0 ? k : b->k0;
+            b->k1 = k + 1;
+        }
+    }
 }

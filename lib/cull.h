@@ -45,4 +45,15 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
  * outside them is proven inside. Returns the number of nodes in the spans
  * (0: the whole block is inside). */
 size_t jm_sph_spans(const float *part, int n, float threshold, uint8_t *span);
+/* The box of a block's spans: the slabs [k0, k1) holding one, in slab k the
+ * rows [j0[k], j1[k]) (j0 >= j1: none), the nodes [i0, i1) covering every
+ * span. A kernel reaching no row and node of it adds to no span: the span
+ * samplers (splat.c, aniso_splat.c) skip it and the rows outside the box,
+ * whose spans are empty, so every span node keeps its terms and their
+ * order. Speed only. */
+typedef struct {
+    int k0, k1, i0, i1;
+    int j0[JM_PAD_MAX], j1[JM_PAD_MAX];
+} jm_span_box;
+void jm_span_box_of(const uint8_t *span, int n, jm_span_box *b);
 #endif

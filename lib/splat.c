@@ -1,5 +1,6 @@
 /* splat.c - SPH field sampling on a block: the kernel splatted row by row in SIMD chosen at run time. */
 #include "splat.h"
+#include "cull.h"
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -53,18 +54,29 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
     ROWS_SETUP                                                                                             \
+    jm_span_box sb;                                                                                        \
+    if (SPANNED) jm_span_box_of(span, n, &sb);                                                                 \
     for (size_t k = 0; k < cells; k++) {                                                                   \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
             const float *q = GP(g, p);                                                                     \
             int i0, i1, j0, j1, k0, k1;                                                                    \
             if (!reaches(g, p, q, box, x, y, z, n, inv_h, R, &i0, &i1, &j0, &j1, &k0, &k1)) continue;       \
+            if (SPANNED) {                                                                                 \
+                /* the rows and nodes this particle reaches, cut to the spans' box */                      \
+                if (i1 <= sb.i0 || i0 >= sb.i1) continue;                                                  \
+                k0 = k0 > sb.k0 ? k0 : sb.k0;                                                              \
+                k1 = k1 < sb.k1 ? k1 : sb.k1;                                                              \
+                if (k0 >= k1) continue;                                                                    \
+            }                                                                                              \
             const float wgt = g->weight[p];                                                                \
             const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
             PREP                                                                                           \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
                 float *slab = pad + (size_t)kk * n * ns;                                                   \
-                for (int jj = j0; jj < j1; jj++) {                                                         \
+                const int ja = SPANNED && sb.j0[kk] > j0 ? sb.j0[kk] : j0;                                 \
+                const int jb = SPANNED && sb.j1[kk] < j1 ? sb.j1[kk] : j1;                                 \
+                for (int jj = ja; jj < jb; jj++) {                                                         \
                     const uint8_t *sp = SPANNED ? span + 2 * ((size_t)kk * n + jj) : NULL;                 \
                     if (SPANNED && sp[0] >= sp[1]) continue;                                               \
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
