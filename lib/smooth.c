@@ -76,13 +76,15 @@ typedef struct sm_job {
     jm_post_mesh *m;
     jm_mem *mem;
     size_t nv;
-    const uint32_t *start; /* nv+1 offsets into nb, nc */
-    const uint32_t *nb;    /* per incident triangle of v: the next corner */
-    const uint32_t *nc;    /* ... and the one after it */
+    const uint32_t *deg;   /* per vertex: its number of incident triangles (= of neighbours) */
     const float *inv;      /* per vertex: 1 / its number of neighbours */
-    const uint32_t *nb8;   /* per vertex: its first 8 neighbours, then nv (a -0 sentinel), each
-                            * doubled: &S[2 q] is neighbour q of 4 floats per vertex in one
-                            * addressing mode (q < JM_PENDING = 2^31) */
+    const uint32_t *nb8;   /* per vertex: for its first 8 incident triangles in triangle order the
+                            * next corner, then nv (a -0 sentinel), each doubled: &S[2 q] is
+                            * neighbour q of 4 floats per vertex in one addressing mode
+                            * (q < JM_PENDING = 2^31) */
+    const uint32_t *nc8;   /* ... and the corner after it, doubled (past deg: undefined) */
+    const uint32_t *bstart; /* per big vertex (big[k]): offsets of its whole fan in bnb, bnc */
+    const uint32_t *bnb, *bnc; /* the big vertices' fans in triangle order: next and after */
     int avx2;              /* the AVX2 normal step and piece volumes may run */
     const uint32_t *odd;   /* increasing: the vertices of 0 or more than 8 neighbours or a weight
                             * under 1e-30 (k = w tau might be 0), which step_task does one by one */
@@ -317,12 +319,12 @@ static inline void step_one(const sm_job *job, size_t v)
 {
     const float *S = job->src;
     const uint32_t *nb8 = job->nb8;
-    uint32_t s = job->start[v], e = job->start[v + 1];
+    const uint32_t d = job->deg[v];
     v4f p = load4(&S[4 * v]);
     float k = job->w[v] * job->tau;
-    if (k != 0.0f && e != s) {
+    if (k != 0.0f && d != 0) {
         v4f sum;
-        if (e - s <= 8) {
+        if (d <= 8) {
             const uint32_t *q = &nb8[8 * v];
             sum = load4(&S[2 * (size_t)q[0]]);
             sum += load4(&S[2 * (size_t)q[1]]);
@@ -333,7 +335,8 @@ static inline void step_one(const sm_job *job, size_t v)
             sum += load4(&S[2 * (size_t)q[6]]);
             sum += load4(&S[2 * (size_t)q[7]]);
         } else {
-            sum = fan_sum(S, job->nb, s, e);
+            size_t b = lower_bound(job->big, job->nbig, v);
+            sum = fan_sum(S, job->bnb, job->bstart[b], job->bstart[b + 1]);
         }
         p += k * (sum * job->inv[v] - p);
     }
@@ -381,17 +384,27 @@ JM_SM_CLONES static void area_task(void *arg, size_t chunk, int worker)
     (void)worker;
     sm_job *job = arg;
     const float *P = job->src;
-    const uint32_t *start = job->start, *nb = job->nb, *nc = job->nc;
+    const uint32_t *deg = job->deg, *nb8 = job->nb8, *nc8 = job->nc8;
     float *area = job->area;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    size_t k = lower_bound(job->big, job->nbig, a);
     for (size_t v = a; v < b; v++) {
         v4f p = load4(&P[4 * v]), n = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (uint32_t i = start[v]; i < start[v + 1]; i++) {
-            v4f e1 = load4(&P[4 * (size_t)nb[i]]) - p, e2 = load4(&P[4 * (size_t)nc[i]]) - p;
-            n += __builtin_shufflevector(e1, e1, 1, 2, 0, 3) * __builtin_shufflevector(e2, e2, 2, 0, 1, 3) -
-                 __builtin_shufflevector(e1, e1, 2, 0, 1, 3) * __builtin_shufflevector(e2, e2, 1, 2, 0, 3);
+#define FAN_AREA(qb, qc)                                                                                    \
+    do {                                                                                                   \
+        v4f e1 = load4(&P[qb]) - p, e2 = load4(&P[qc]) - p;                                                \
+        n += __builtin_shufflevector(e1, e1, 1, 2, 0, 3) * __builtin_shufflevector(e2, e2, 2, 0, 1, 3) -   \
+             __builtin_shufflevector(e1, e1, 2, 0, 1, 3) * __builtin_shufflevector(e2, e2, 1, 2, 0, 3);    \
+    } while (0)
+        if (deg[v] <= 8) {
+            for (uint32_t i = 0; i < deg[v]; i++) FAN_AREA(2 * (size_t)nb8[8 * v + i], 2 * (size_t)nc8[8 * v + i]);
+        } else {
+            for (uint32_t i = job->bstart[k]; i < job->bstart[k + 1]; i++)
+                FAN_AREA(4 * (size_t)job->bnb[i], 4 * (size_t)job->bnc[i]);
+            k++;
         }
-        for (int k = 0; k < 3; k++) area[3 * v + k] = 0.5f * n[k];
+#undef FAN_AREA
+        for (int j = 0; j < 3; j++) area[3 * v + j] = 0.5f * n[j];
     }
 }
 
@@ -455,7 +468,7 @@ __attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, si
 {
     const float *S = job->src;
     float *D = job->dst;
-    const uint32_t *start = job->start, *nb = job->nb, *nb8 = job->nb8;
+    const uint32_t *nb8 = job->nb8;
     const __m256 neg0 = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
     for (size_t v = a; v < b; v++) {
         __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
@@ -493,8 +506,8 @@ __attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, si
         size_t v = job->big[i];
         __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
         uint32_t k = 1;
-        for (uint32_t j = start[v]; j < start[v + 1]; j++) {
-            __m128 q = _mm_loadu_ps(&S[4 * (size_t)nb[j]]), d = _mm_mul_ps(q, n);
+        for (uint32_t j = job->bstart[i]; j < job->bstart[i + 1]; j++) {
+            __m128 q = _mm_loadu_ps(&S[4 * (size_t)job->bnb[j]]), d = _mm_mul_ps(q, n);
             if (d[0] + d[1] + d[2] > 0.0f) t = _mm_add_ps(t, q), k++;
         }
         _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
@@ -518,21 +531,20 @@ static void nstep_task(void *arg, size_t chunk, int worker)
 #endif
     const float *S = job->src;
     float *D = job->dst;
-    const uint32_t *start = job->start, *nb = job->nb;
-    uint32_t e = start[a];
+    const uint32_t *deg = job->deg, *nb8 = job->nb8;
+    size_t bk = lower_bound(job->big, job->nbig, a);
     for (size_t v = a; v < b; v++) {
         v4f n = load4(&S[4 * v]), t = n;
-        uint32_t s = e, k = 1;
-        e = start[v + 1];
-        const uint32_t *Q = nb + e;
+        uint32_t k = 1, d = deg[v];
+        const uint32_t *Q = nb8 + 8 * v + (d <= 8 ? d : 0);
         /* not across a thin sheet or droplet: its other side faces away */
 #define ADD(q)                                         \
     do {                                               \
         v4f q_ = (q), d_ = q_ * n;                     \
         if (d_[0] + d_[1] + d_[2] > 0.0f) t += q_, k++; \
     } while (0)
-#define ADDJ(j) ADD(load4(&S[4 * (size_t)Q[-(j)]]))
-        switch (e - s) {
+#define ADDJ(j) ADD(load4(&S[2 * (size_t)Q[-(j)]]))
+        switch (d) {
         case 8: ADDJ(8); /* fall through */
         case 7: ADDJ(7); /* fall through */
         case 6: ADDJ(6); /* fall through */
@@ -543,7 +555,8 @@ static void nstep_task(void *arg, size_t chunk, int worker)
         case 1: ADDJ(1); /* fall through */
         case 0: break;
         default:
-            for (uint32_t i = s; i < e; i++) ADD(load4(&S[4 * (size_t)nb[i]]));
+            for (uint32_t i = job->bstart[bk]; i < job->bstart[bk + 1]; i++) ADD(load4(&S[4 * (size_t)job->bnb[i]]));
+            bk++;
         }
 #undef ADDJ
 #undef ADD
@@ -703,11 +716,12 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     const int threads = jm_pool_threads(pool);
     jm_status st = JM_OK;
     size_t nchunks = (nv + CH - 1) / CH;
-    size_t nidx = ni ? ni : 1;
-    uint32_t *start = scratch_buf(sc, mem, B_START, (nv + 1) * sizeof *start);
-    uint32_t *nb = scratch_buf(sc, mem, B_NB, nidx * sizeof *nb), *nc = scratch_buf(sc, mem, B_NC, nidx * sizeof *nc);
+    uint32_t *deg = scratch_buf(sc, mem, B_START, nv * sizeof *deg);
+    uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
+    uint32_t *nc8 = scratch_buf(sc, mem, B_NC, nv * 8 * sizeof *nc8);
     float *w = scratch_buf(sc, mem, B_W, nv * sizeof *w);
     float *buf = scratch_buf(sc, mem, B_BUF, nv * 3 * sizeof *buf);
+    float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
     float *phi = NULL, *area = NULL;
     uint32_t *comp = NULL;
     double *vol0 = NULL;
@@ -716,43 +730,64 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     sm_corner *corners = NULL;
     sm_job job;
     memset(&job, 0, sizeof job);
-    if (!start || !nb || !nc || !w || !buf) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    memset(start, 0, (nv + 1) * sizeof *start);
+    if (!deg || !nb8 || !nc8 || !w || !buf || !inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    memset(deg, 0, nv * sizeof *deg);
 
     /* the fans: per vertex, for each triangle around it in triangle order,
-     * the two other corners counter-clockwise */
-    for (size_t t = 0; t < ni; t++) start[m->idx[t] + 1]++;
-    for (size_t v = 0; v < nv; v++) start[v + 1] += start[v];
+     * the two other corners counter-clockwise; the first 8 in the vertex's
+     * row of nb8, nc8, padded with nv (the -0 sentinel vertex of the wide
+     * positions and normals), all of them for the few vertices of more
+     * (big, bstart, bnb, bnc) */
     for (size_t t = 0; t + 2 < ni; t += 3) {
         const uint32_t *T = &m->idx[t];
-        uint32_t i0 = start[T[0]]++, i1 = start[T[1]]++, i2 = start[T[2]]++;
-        nb[i0] = T[1], nc[i0] = T[2];
-        nb[i1] = T[2], nc[i1] = T[0];
-        nb[i2] = T[0], nc[i2] = T[1];
+        for (int k = 0; k < 3; k++) {
+            const uint32_t v = T[k], j = deg[v]++;
+            if (j < 8) {
+                nb8[8 * (size_t)v + j] = 2 * T[k == 2 ? 0 : k + 1];
+                nc8[8 * (size_t)v + j] = 2 * T[k == 0 ? 2 : k - 1];
+            }
+        }
     }
-    memmove(start + 1, start, nv * sizeof *start);
-    start[0] = 0;
-    float *inv = scratch_buf(sc, mem, B_INV, nv * sizeof *inv);
-    if (!inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    for (size_t v = 0; v < nv; v++) inv[v] = start[v + 1] > start[v] ? 1.0f / (float)(start[v + 1] - start[v]) : 0.0f;
-    /* the first 8 neighbours of each vertex, padded with nv: the -0
-     * sentinel vertex of the wide positions and normals */
-    uint32_t *nb8 = scratch_buf(sc, mem, B_NB8, nv * 8 * sizeof *nb8);
-    if (!nb8) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    size_t nbig = 0, nfan = 0;
     for (size_t v = 0; v < nv; v++) {
-        uint32_t d = start[v + 1] - start[v], j = 0;
-        if (d > 8) d = 8;
-        for (; j < d; j++) nb8[8 * v + j] = 2 * nb[start[v] + j];
-        for (; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
+        const uint32_t d = deg[v];
+        inv[v] = d > 0 ? 1.0f / (float)d : 0.0f;
+        for (uint32_t j = d; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
+        if (d > 8) nbig++, nfan += d;
     }
-
-    size_t nbig = 0;
-    for (size_t v = 0; v < nv; v++) nbig += start[v + 1] - start[v] > 8;
-    uint32_t *big = scratch_buf(sc, mem, B_BIG, nbig * sizeof *big);
-    if (!big) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    uint32_t *big = scratch_buf(sc, mem, B_BIG, (3 * nbig + 1) * sizeof *big);
+    uint32_t *bnb = scratch_buf(sc, mem, B_NB, (2 * nfan + 1) * sizeof *bnb);
+    if (!big || !bnb) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    uint32_t *bstart = big + nbig, *bfill = bstart + nbig + 1, *bnc = bnb + nfan;
+    bstart[0] = 0;
     nbig = 0;
     for (size_t v = 0; v < nv; v++)
-        if (start[v + 1] - start[v] > 8) big[nbig++] = (uint32_t)v;
+        if (deg[v] > 8) {
+            big[nbig] = (uint32_t)v;
+            bfill[nbig] = bstart[nbig];
+            bstart[nbig + 1] = bstart[nbig] + deg[v];
+            nbig++;
+        }
+    if (nbig > 0) {
+        /* the big vertices' whole fans: their place in big in buf for a moment */
+        uint32_t *pos = (uint32_t *)buf;
+        for (size_t k = 0; k < nbig; k++) pos[big[k]] = (uint32_t)k;
+        for (size_t t = 0; t + 2 < ni; t += 3) {
+            const uint32_t *T = &m->idx[t];
+            for (int k = 0; k < 3; k++) {
+                const uint32_t v = T[k];
+                if (deg[v] <= 8) continue;
+                const uint32_t i = bfill[pos[v]]++;
+                bnb[i] = T[k == 2 ? 0 : k + 1];
+                bnc[i] = T[k == 0 ? 2 : k - 1];
+            }
+        }
+    }
+    job.deg = deg;
+    job.nc8 = nc8;
+    job.bstart = bstart;
+    job.bnb = bnb;
+    job.bnc = bnc;
     job.big = big;
     job.nbig = nbig;
     job.c = c;
@@ -763,9 +798,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.m = m;
     job.mem = mem;
     job.nv = nv;
-    job.start = start;
-    job.nb = nb;
-    job.nc = nc;
     job.inv = inv;
     job.nb8 = nb8;
     job.w = w;
@@ -814,12 +846,12 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
         piece_volumes(m, a, comp, vol0, ncomp, job.avx2);
         size_t nodd = 0;
-        for (size_t v = 0; v < nv; v++) nodd += start[v + 1] - start[v] - 1 >= 8 || !(w[v] >= 1e-30f);
+        for (size_t v = 0; v < nv; v++) nodd += deg[v] - 1 >= 8 || !(w[v] >= 1e-30f);
         uint32_t *odd = scratch_buf(sc, mem, B_ODD, nodd * sizeof *odd);
         if (!odd) { st = JM_E_OUT_OF_MEMORY; goto out; }
         nodd = 0;
         for (size_t v = 0; v < nv; v++)
-            if (start[v + 1] - start[v] - 1 >= 8 || !(w[v] >= 1e-30f)) odd[nodd++] = (uint32_t)v;
+            if (deg[v] - 1 >= 8 || !(w[v] >= 1e-30f)) odd[nodd++] = (uint32_t)v;
         job.odd = odd;
         job.nodd = nodd;
         for (int it = 0; it < iters; it += CYCLE) {
