@@ -85,6 +85,9 @@ typedef struct sm_job {
     const uint32_t *nc8;   /* ... and the corner after it, doubled (past deg: undefined) */
     const uint32_t *bstart; /* per big vertex (big[k]): offsets of its whole fan in bnb, bnc */
     const uint32_t *bnb, *bnc; /* the big vertices' fans in triangle order: next and after */
+    uint32_t *nm8;         /* normal smoothing: per vertex its counted neighbours (nmask_task) */
+    uint8_t *bflag;        /* ... per big vertex's fan entry whether it counts */
+    float *ninv;           /* ... per vertex 1 / (1 + their number) */
     int avx2;              /* the AVX2 normal step and piece volumes may run */
     const uint32_t *odd;   /* increasing: the vertices of 0 or more than 8 neighbours or a weight
                             * under 1e-30 (k = w tau might be 0), which step_task does one by one */
@@ -457,111 +460,85 @@ static void normal_task(void *arg, size_t chunk, int worker)
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
 #define JM_SM_NSTEP_AVX2 1
 #include <immintrin.h>
-/* nstep_task in AVX2, for fans of up to 8 without branches (those of more
- * done again afterwards): the 8 slots of the
- * row (the -0 sentinel after the last neighbour) as 4 pairs, their facing
- * products transposed so that one add of x, y and z gives all 8 sums in the
- * scalar order ((x + y) + z), and a neighbour facing away (or the sentinel,
- * whose sum is +-0) replaced by -0, which adds nothing: then the 8 adds in
- * slot order. The same bits as nstep_task's plain code. */
-__attribute__((target("avx2"))) static void nstep_avx2(sm_job *job, size_t a, size_t b)
-{
-    const float *S = job->src;
-    float *D = job->dst;
-    const uint32_t *nb8 = job->nb8;
-    const __m256 neg0 = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
-    for (size_t v = a; v < b; v++) {
-        __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
-        const uint32_t *q = &nb8[8 * v];
-        __m256 nn = _mm256_insertf128_ps(_mm256_castps128_ps256(n), n, 1);
-        __m256 Q0 = _mm256_loadu2_m128(&S[2 * (size_t)q[4]], &S[2 * (size_t)q[0]]);
-        __m256 Q1 = _mm256_loadu2_m128(&S[2 * (size_t)q[5]], &S[2 * (size_t)q[1]]);
-        __m256 Q2 = _mm256_loadu2_m128(&S[2 * (size_t)q[6]], &S[2 * (size_t)q[2]]);
-        __m256 Q3 = _mm256_loadu2_m128(&S[2 * (size_t)q[7]], &S[2 * (size_t)q[3]]);
-        __m256 P0 = _mm256_mul_ps(Q0, nn), P1 = _mm256_mul_ps(Q1, nn);
-        __m256 P2 = _mm256_mul_ps(Q2, nn), P3 = _mm256_mul_ps(Q3, nn);
-        __m256 t0 = _mm256_unpacklo_ps(P0, P1), t1 = _mm256_unpackhi_ps(P0, P1); /* x0 x1 y0 y1, z0 z1 . . */
-        __m256 t2 = _mm256_unpacklo_ps(P2, P3), t3 = _mm256_unpackhi_ps(P2, P3);
-        __m256 X = _mm256_shuffle_ps(t0, t2, 0x44), Y = _mm256_shuffle_ps(t0, t2, 0xEE);
-        __m256 Z = _mm256_shuffle_ps(t1, t3, 0x44);
-        /* lanes: slots 0 1 2 3 | 4 5 6 7 */
-        __m256 M = _mm256_cmp_ps(_mm256_add_ps(_mm256_add_ps(X, Y), Z), zero, _CMP_GT_OQ);
-        __m256 R0 = _mm256_blendv_ps(neg0, Q0, _mm256_permute_ps(M, 0x00));
-        __m256 R1 = _mm256_blendv_ps(neg0, Q1, _mm256_permute_ps(M, 0x55));
-        __m256 R2 = _mm256_blendv_ps(neg0, Q2, _mm256_permute_ps(M, 0xAA));
-        __m256 R3 = _mm256_blendv_ps(neg0, Q3, _mm256_permute_ps(M, 0xFF));
-        t = _mm_add_ps(t, _mm256_castps256_ps128(R0));
-        t = _mm_add_ps(t, _mm256_castps256_ps128(R1));
-        t = _mm_add_ps(t, _mm256_castps256_ps128(R2));
-        t = _mm_add_ps(t, _mm256_castps256_ps128(R3));
-        t = _mm_add_ps(t, _mm256_extractf128_ps(R0, 1));
-        t = _mm_add_ps(t, _mm256_extractf128_ps(R1, 1));
-        t = _mm_add_ps(t, _mm256_extractf128_ps(R2, 1));
-        t = _mm_add_ps(t, _mm256_extractf128_ps(R3, 1));
-        int k = 1 + __builtin_popcount((unsigned)_mm256_movemask_ps(M));
-        _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
-    }
-    /* the vertices of more than 8 neighbours: over all of them */
-    for (size_t i = lower_bound(job->big, job->nbig, a); i < job->nbig && job->big[i] < b; i++) {
-        size_t v = job->big[i];
-        __m128 n = _mm_loadu_ps(&S[4 * v]), t = n;
-        uint32_t k = 1;
-        for (uint32_t j = job->bstart[i]; j < job->bstart[i + 1]; j++) {
-            __m128 q = _mm_loadu_ps(&S[4 * (size_t)job->bnb[j]]), d = _mm_mul_ps(q, n);
-            if (d[0] + d[1] + d[2] > 0.0f) t = _mm_add_ps(t, q), k++;
-        }
-        _mm_storeu_ps(&D[4 * v], _mm_mul_ps(t, _mm_set1_ps(1.0f / (float)k)));
-    }
-}
 #endif
 
-/* One step of normal smoothing: the mean of the vertex's normal and those of
- * its neighbours that face the same side (directions only; normalised after
- * the last step), 4 floats per vertex. */
-static void nstep_task(void *arg, size_t chunk, int worker)
+/* The normal smoothing's neighbours, chosen once from the normals before
+ * its first step (job->src, 4 floats per vertex): a neighbour counts when
+ * it faces the same side as the vertex (not across a thin sheet or
+ * droplet: its other side faces away), its product with the vertex's
+ * normal summed ((x + y) + z) > 0. Per vertex of up to 8 neighbours its
+ * row of nb8 with the others replaced by the -0 sentinel (nm8); per big
+ * vertex a flag per fan entry (bflag), its row all sentinels; 1 / (1 + the
+ * number counted) in ninv. */
+JM_SM_CLONES static void nmask_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
-    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
-#ifdef JM_SM_NSTEP_AVX2
-    if (job->avx2) {
-        nstep_avx2(job, a, b);
-        return;
-    }
-#endif
     const float *S = job->src;
-    float *D = job->dst;
-    const uint32_t *deg = job->deg, *nb8 = job->nb8;
+    const uint32_t *deg = job->deg, *nb8 = job->nb8, sent = 2 * (uint32_t)job->nv;
+    uint32_t *nm8 = job->nm8;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     size_t bk = lower_bound(job->big, job->nbig, a);
     for (size_t v = a; v < b; v++) {
-        v4f n = load4(&S[4 * v]), t = n;
-        uint32_t k = 1, d = deg[v];
-        const uint32_t *Q = nb8 + 8 * v + (d <= 8 ? d : 0);
-        /* not across a thin sheet or droplet: its other side faces away */
-#define ADD(q)                                         \
-    do {                                               \
-        v4f q_ = (q), d_ = q_ * n;                     \
-        if (d_[0] + d_[1] + d_[2] > 0.0f) t += q_, k++; \
-    } while (0)
-#define ADDJ(j) ADD(load4(&S[2 * (size_t)Q[-(j)]]))
-        switch (d) {
-        case 8: ADDJ(8); /* fall through */
-        case 7: ADDJ(7); /* fall through */
-        case 6: ADDJ(6); /* fall through */
-        case 5: ADDJ(5); /* fall through */
-        case 4: ADDJ(4); /* fall through */
-        case 3: ADDJ(3); /* fall through */
-        case 2: ADDJ(2); /* fall through */
-        case 1: ADDJ(1); /* fall through */
-        case 0: break;
-        default:
-            for (uint32_t i = job->bstart[bk]; i < job->bstart[bk + 1]; i++) ADD(load4(&S[4 * (size_t)job->bnb[i]]));
+        const v4f n = load4(&S[4 * v]);
+        uint32_t k = 1;
+        if (deg[v] <= 8) {
+            for (uint32_t j = 0; j < 8; j++) {
+                const uint32_t q = nb8[8 * v + j];
+                uint32_t keep = 0;
+                if (j < deg[v]) {
+                    v4f d = load4(&S[2 * (size_t)q]) * n;
+                    keep = d[0] + d[1] + d[2] > 0.0f;
+                }
+                nm8[8 * v + j] = keep ? q : sent;
+                k += keep;
+            }
+        } else {
+            for (uint32_t j = 0; j < 8; j++) nm8[8 * v + j] = sent;
+            for (uint32_t i = job->bstart[bk]; i < job->bstart[bk + 1]; i++) {
+                v4f d = load4(&S[4 * (size_t)job->bnb[i]]) * n;
+                job->bflag[i] = d[0] + d[1] + d[2] > 0.0f;
+                k += job->bflag[i];
+            }
             bk++;
         }
-#undef ADDJ
-#undef ADD
-        float inv = 1.0f / (float)k;
-        t *= inv;
+        job->ninv[v] = 1.0f / (float)k;
+    }
+}
+
+/* One step of normal smoothing: the mean of the vertex's normal and those of
+ * the neighbours nmask_task chose (directions only; normalised after the
+ * last step), 4 floats per vertex: the 8 slots of the row in order (a -0
+ * sentinel adds nothing), then the big vertices again over their flagged
+ * fan entries. */
+JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    const float *S = job->src, *ninv = job->ninv;
+    float *D = job->dst;
+    const uint32_t *nm8 = job->nm8;
+    size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
+    for (size_t v = a; v < b; v++) {
+        const uint32_t *q = &nm8[8 * v];
+        v4f t = load4(&S[4 * v]);
+        t += load4(&S[2 * (size_t)q[0]]);
+        t += load4(&S[2 * (size_t)q[1]]);
+        t += load4(&S[2 * (size_t)q[2]]);
+        t += load4(&S[2 * (size_t)q[3]]);
+        t += load4(&S[2 * (size_t)q[4]]);
+        t += load4(&S[2 * (size_t)q[5]]);
+        t += load4(&S[2 * (size_t)q[6]]);
+        t += load4(&S[2 * (size_t)q[7]]);
+        t *= ninv[v];
+        memcpy(&D[4 * v], &t, sizeof t);
+    }
+    for (size_t k = lower_bound(job->big, job->nbig, a); k < job->nbig && job->big[k] < b; k++) {
+        const size_t v = job->big[k];
+        v4f t = load4(&S[4 * v]);
+        for (uint32_t i = job->bstart[k]; i < job->bstart[k + 1]; i++)
+            if (job->bflag[i]) t += load4(&S[4 * (size_t)job->bnb[i]]);
+        t *= ninv[v];
         memcpy(&D[4 * v], &t, sizeof t);
     }
 }
@@ -590,7 +567,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
     }
 }
 
-enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8, B_ODD, B_BIG };
+enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8, B_ODD, B_BIG, B_FLAG };
 
 /* Buffer k of the scratch with room for at least `bytes` (contents
  * undefined); NULL when out of memory. */
@@ -909,6 +886,14 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             memcpy(keep, m->nrm, nv * 3 * sizeof *keep);
             widen(a, m->nrm, nv);
             for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+            /* the neighbours that count, into the arrays of the fans' second
+             * corners and of the position steps' 1 / counts (used no more) */
+            job.nm8 = nc8;
+            job.ninv = inv;
+            job.bflag = scratch_buf(sc, mem, B_FLAG, (nfan + 1) * sizeof *job.bflag);
+            if (!job.bflag) { st = JM_E_OUT_OF_MEMORY; goto out; }
+            job.src = a;
+            jm_pool_run(pool, nchunks, 1, nmask_task, &job);
             for (int it = 0; it < niters; it++) {
                 job.src = a;
                 job.dst = b;
