@@ -37,8 +37,10 @@
  * the field's normals by the weight: the field's gradient at a moved vertex
  * describes the bumpy surface the vertex left, not the smooth one it is on,
  * and where nothing moved (weight 0) the field's normal is the exact one.
- * Normal smoothing averages each normal with its neighbours' (Jacobi), and
- * the UVs are computed again from the final positions and normals.
+ * Normal smoothing averages each normal with its neighbours' (Jacobi), those
+ * facing the same side as it before the first step (never across a thin
+ * sheet or a droplet's other side), and the UVs are computed again from the
+ * final positions and normals.
  */
 
 /* The weights, steps and fan areas also cloned for AVX2 (three-operand
