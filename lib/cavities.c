@@ -1,5 +1,6 @@
 /* cavities.c - removes closed inward-facing shells smaller than a particle (sub-particle bubbles inside bulk fluid). */
 #include "cavities.h"
+#include "pieces.h"
 #include <string.h>
 
 /*
@@ -13,19 +14,6 @@
  * every tool downstream. A cavity of a particle's volume or more (a real
  * bubble, or a hollow in the particle data) is kept.
  */
-
-static uint32_t find(uint32_t *p, uint32_t x)
-{
-    /* a root or a root's child: what the loop would find, without its
-     * stores (which would write what is there) */
-    const uint32_t r = p[x];
-    if (p[r] == r) return r;
-    while (p[x] != x) {
-        p[x] = p[p[x]];
-        x = p[x];
-    }
-    return x;
-}
 
 /* The signed volume of the tetrahedron (o, pa, pb, pc): a . (b x c) / 6
  * with a = pa - o (and so on) in double, the SSE2 version doing the same
@@ -80,19 +68,7 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         jm_free(mem, vol, n * sizeof *vol);
         return 0;
     }
-    for (size_t v = 0; v < n; v++) parent[v] = (uint32_t)v;
-    for (size_t t = 0; t < nt; t++) {
-        const uint32_t *i = idx + 3 * t;
-        uint32_t a = find(parent, i[0]), b = find(parent, i[1]), c = find(parent, i[2]);
-        /* the smaller index as root: the result does not depend on the order of unions */
-        if (a == b && b == c) continue; /* one component already */
-        uint32_t m = a < b ? (a < c ? a : c) : (b < c ? b : c);
-        parent[a] = parent[b] = parent[c] = m;
-    }
-    /* every vertex straight to its root: a root is the smallest index of
-     * its component and parent[v] <= v throughout, so in index order a
-     * vertex's parent is already flattened when it is reached */
-    for (size_t v = 0; v < n; v++) parent[v] = parent[parent[v]];
+    jm_mesh_pieces(parent, idx, n, nt);
     /* signed volumes about the first vertex (translation-invariant for a
      * closed shell; near the mesh for precision), summed in triangle order */
     const double o[3] = {pos[0], pos[1], pos[2]};

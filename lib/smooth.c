@@ -1,6 +1,7 @@
 /* smooth.c - feature-weighted Laplacian mesh smoothing with volume restoration, then normals, normal smoothing, UVs. */
 #include "post.h"
 #include "block.h"
+#include "pieces.h"
 #include <string.h>
 
 /*
@@ -590,15 +591,6 @@ void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
     memset(s, 0, sizeof *s);
 }
 
-static uint32_t find_root(uint32_t *parent, uint32_t v)
-{
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
 /* Signed volume of each connected piece (comp[] of a triangle's first
  * corner), from positions P of 4 floats per vertex: the triangles' terms in
  * double, summed in triangle order. */
@@ -799,18 +791,8 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
 
         /* connected pieces: union-find, roots the smallest vertex, labels in
          * vertex order (buf holds them for a moment) */
-        for (size_t v = 0; v < nv; v++) comp[v] = (uint32_t)v;
-        for (size_t t = 0; t + 2 < ni; t += 3)
-            for (int k = 1; k < 3; k++) {
-                uint32_t ra = find_root(comp, m->idx[t]), rb = find_root(comp, m->idx[t + k]);
-                if (ra != rb) comp[ra > rb ? ra : rb] = ra < rb ? ra : rb;
-            }
-        uint32_t *label = (uint32_t *)buf;
-        for (size_t v = 0; v < nv; v++) {
-            uint32_t r = find_root(comp, (uint32_t)v);
-            label[v] = r == v ? (uint32_t)ncomp++ : label[r];
-        }
-        memcpy(comp, label, nv * sizeof *comp);
+        jm_mesh_pieces(comp, m->idx, nv, ni / 3);
+        for (size_t v = 0; v < nv; v++) comp[v] = comp[v] == v ? (uint32_t)ncomp++ : comp[comp[v]];
         vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
@@ -852,12 +834,25 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             jm_pool_run(pool, nchunks, 1, area_task, &job);
             piece_volumes(m, a, comp, vol1, ncomp, job.avx2);
             memset(den, 0, 2 * ncomp * sizeof *den);
+            /* a piece's vertices mostly follow each other: its sums stay in
+             * registers while they do (the same additions in the same order) */
+            uint32_t cur = 0;
+            double dacc = 0.0, tacc = 0.0;
             for (size_t v = 0; v < nv; v++) {
                 const float *A = &area[3 * v];
                 double ar = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
-                den[comp[v]] += (double)w[v] * ar;
-                tot[comp[v]] += ar;
+                if (comp[v] != cur) {
+                    den[cur] = dacc;
+                    tot[cur] = tacc;
+                    cur = comp[v];
+                    dacc = den[cur];
+                    tacc = tot[cur];
+                }
+                dacc += (double)w[v] * ar;
+                tacc += ar;
             }
+            den[cur] = dacc;
+            tot[cur] = tacc;
             /* each vertex's offset at most 5 % of its piece's size (the square
              * root of its area): small voids that smoothing nearly closes
              * would otherwise ask for huge ones */
