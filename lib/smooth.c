@@ -91,7 +91,6 @@ typedef struct sm_job {
     uint32_t *nm8;         /* normal smoothing: per vertex its counted neighbours (nmask_task) */
     uint8_t *bflag;        /* ... per big vertex's fan entry whether it counts */
     float *ninv;           /* ... per vertex 1 / (1 + their number) */
-    int avx2;              /* the AVX2 normal step and piece volumes may run */
     const uint32_t *odd;   /* increasing: the vertices of 0 or more than 8 neighbours or a weight
                             * under 1e-30 (k = w tau might be 0), which step_task does one by one */
     size_t nodd;
@@ -460,11 +459,6 @@ static void normal_task(void *arg, size_t chunk, int worker)
     }
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
-#define JM_SM_NSTEP_AVX2 1
-#include <immintrin.h>
-#endif
-
 /* The normal smoothing's neighbours, chosen once from the normals before
  * its first step (job->src, 4 floats per vertex): a neighbour counts when
  * it faces the same side as the vertex (not across a thin sheet or
@@ -591,74 +585,43 @@ void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
     memset(s, 0, sizeof *s);
 }
 
-/* Signed volume of each connected piece (comp[] of a triangle's first
- * corner), from positions P of 4 floats per vertex: the triangles' terms in
- * double, summed in triangle order. */
-static void piece_volumes(const jm_post_mesh *m, const float *P, const uint32_t *comp, double *vol, size_t ncomp,
-                          int avx2);
-
-static inline double volume_term(const float *a, const float *b, const float *c)
-{
-    double cx = (double)b[1] * c[2] - (double)b[2] * c[1];
-    double cy = (double)b[2] * c[0] - (double)b[0] * c[2];
-    double cz = (double)b[0] * c[1] - (double)b[1] * c[0];
-    return (a[0] * cx + a[1] * cy + a[2] * cz) / 6.0;
-}
-
-#ifdef JM_SM_NSTEP_AVX2
-/* 4 triangles at a time in AVX2: their corners transposed to x, y, z of 4,
- * widened to double, the same operations in 4 lanes; the terms then added in
- * triangle order. */
-__attribute__((target("avx2"))) static void piece_volumes_avx2(const jm_post_mesh *m, const float *P,
-                                                                 const uint32_t *comp, double *vol)
-{
-    const uint32_t *idx = m->idx;
-    size_t nt = m->ni_lattice / 3, t = 0;
-    const __m256d six = _mm256_set1_pd(6.0);
-    double term[4];
-    for (; t + 4 <= nt; t += 4) {
-        const uint32_t *T = &idx[3 * t];
-        __m256d X[3], Y[3], Z[3];
-        for (int k = 0; k < 3; k++) {
-            __m128 p0 = _mm_loadu_ps(&P[4 * (size_t)T[k]]), p1 = _mm_loadu_ps(&P[4 * (size_t)T[3 + k]]);
-            __m128 p2 = _mm_loadu_ps(&P[4 * (size_t)T[6 + k]]), p3 = _mm_loadu_ps(&P[4 * (size_t)T[9 + k]]);
-            __m128 t0 = _mm_unpacklo_ps(p0, p1), t1 = _mm_unpackhi_ps(p0, p1); /* x0 x1 y0 y1, z0 z1 . . */
-            __m128 t2 = _mm_unpacklo_ps(p2, p3), t3 = _mm_unpackhi_ps(p2, p3);
-            X[k] = _mm256_cvtps_pd(_mm_movelh_ps(t0, t2));
-            Y[k] = _mm256_cvtps_pd(_mm_movehl_ps(t2, t0));
-            Z[k] = _mm256_cvtps_pd(_mm_movelh_ps(t1, t3));
-        }
-        __m256d cx = _mm256_sub_pd(_mm256_mul_pd(Y[1], Z[2]), _mm256_mul_pd(Z[1], Y[2]));
-        __m256d cy = _mm256_sub_pd(_mm256_mul_pd(Z[1], X[2]), _mm256_mul_pd(X[1], Z[2]));
-        __m256d cz = _mm256_sub_pd(_mm256_mul_pd(X[1], Y[2]), _mm256_mul_pd(Y[1], X[2]));
-        __m256d d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(X[0], cx), _mm256_mul_pd(Y[0], cy)),
-                                  _mm256_mul_pd(Z[0], cz));
-        _mm256_storeu_pd(term, _mm256_div_pd(d, six));
-        for (int k = 0; k < 4; k++) vol[comp[T[3 * k]]] += term[k];
-    }
-    for (; t < nt; t++) {
-        const uint32_t *T = &idx[3 * t];
-        vol[comp[T[0]]] += volume_term(&P[4 * (size_t)T[0]], &P[4 * (size_t)T[1]], &P[4 * (size_t)T[2]]);
-    }
-}
-#endif
-
-static void piece_volumes(const jm_post_mesh *m, const float *P, const uint32_t *comp, double *vol, size_t ncomp,
-                          int avx2)
+/* Per piece (comp[], labels in vertex order) the sums of the volume
+ * restoration, from the positions P (4 floats per vertex) and the fans'
+ * area vectors A_v (area_task): vol, the signed volume, (1/9) sum_v
+ * (p_v - o) . A_v about the piece's first vertex o (orig; the sum over a
+ * closed piece of the area vectors is 0, so o changes nothing but the
+ * rounding; the triangles' a . N_t / 3 = (a + b + c) . N_t / 9 regrouped by
+ * vertex); when den is not NULL, den = sum_v w_v |A_v| / 3 and tot = sum_v
+ * |A_v| / 3. A piece's vertices mostly follow each other: its sums stay in
+ * registers while they do, the additions in vertex order. */
+static void piece_sums(const float *P, const float *area, const float *w, const uint32_t *comp, size_t nv,
+                       size_t ncomp, const double *orig, double *vol, double *den, double *tot)
 {
     memset(vol, 0, ncomp * sizeof *vol);
-#ifdef JM_SM_NSTEP_AVX2
-    if (avx2) {
-        piece_volumes_avx2(m, P, comp, vol);
-        return;
+    if (den) memset(den, 0, ncomp * sizeof *den), memset(tot, 0, ncomp * sizeof *tot);
+    uint32_t cur = 0;
+    double vacc = 0.0, dacc = 0.0, tacc = 0.0;
+    for (size_t v = 0; v < nv; v++) {
+        const float *A = &area[3 * v];
+        if (comp[v] != cur) {
+            vol[cur] = vacc;
+            if (den) den[cur] = dacc, tot[cur] = tacc;
+            cur = comp[v];
+            vacc = vol[cur];
+            if (den) dacc = den[cur], tacc = tot[cur];
+        }
+        const double *o = &orig[3 * (size_t)cur];
+        vacc += ((double)P[4 * v] - o[0]) * A[0] + ((double)P[4 * v + 1] - o[1]) * A[1] +
+                ((double)P[4 * v + 2] - o[2]) * A[2];
+        if (den) {
+            double ar = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
+            dacc += (double)w[v] * ar;
+            tacc += ar;
+        }
     }
-#else
-    (void)avx2;
-#endif
-    for (size_t t = 0; t + 2 < m->ni_lattice; t += 3) {
-        const uint32_t *T = &m->idx[t];
-        vol[comp[T[0]]] += volume_term(&P[4 * (size_t)T[0]], &P[4 * (size_t)T[1]], &P[4 * (size_t)T[2]]);
-    }
+    vol[cur] = vacc;
+    if (den) den[cur] = dacc, tot[cur] = tacc;
+    for (size_t k = 0; k < ncomp; k++) vol[k] /= 9.0;
 }
 
 /* The step sizes of one super-time-stepping cycle of k steps, largest and
@@ -763,9 +726,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.nbig = nbig;
     job.c = c;
     job.g = g;
-#ifdef JM_SM_NSTEP_AVX2
-    job.avx2 = __builtin_cpu_supports("avx2");
-#endif
     job.m = m;
     job.mem = mem;
     job.nv = nv;
@@ -793,9 +753,15 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
          * vertex order (buf holds them for a moment) */
         jm_mesh_pieces(comp, m->idx, nv, ni / 3);
         for (size_t v = 0; v < nv; v++) comp[v] = comp[v] == v ? (uint32_t)ncomp++ : comp[comp[v]];
-        vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 4 * sizeof *vol0);
+        vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 7 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
-        double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp;
+        double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp, *orig = tot + ncomp;
+        /* each piece's first vertex (its label's first in vertex order) */
+        for (size_t v = 0, k = 0; v < nv && k < ncomp; v++)
+            if (comp[v] == k) {
+                for (int j = 0; j < 3; j++) orig[3 * k + j] = m->pos[3 * v + j];
+                k++;
+            }
 
         /* the wide positions have a sentinel vertex nv of -0, which adds
          * nothing to any float: the padding of the fixed fans of 8 */
@@ -805,7 +771,9 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         if (!a || !b) { st = JM_E_OUT_OF_MEMORY; goto out; }
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
-        piece_volumes(m, a, comp, vol0, ncomp, job.avx2);
+        job.src = a;
+        jm_pool_run(pool, nchunks, 1, area_task, &job);
+        piece_sums(a, area, w, comp, nv, ncomp, orig, vol0, NULL, NULL);
         size_t nodd = 0;
         for (size_t v = 0; v < nv; v++) nodd += deg[v] - 1 >= 8 || !(w[v] >= 1e-30f);
         uint32_t *odd = scratch_buf(sc, mem, B_ODD, nodd * sizeof *odd);
@@ -832,27 +800,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
          * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
         for (int pass = 0; pass < 2; pass++) {
             jm_pool_run(pool, nchunks, 1, area_task, &job);
-            piece_volumes(m, a, comp, vol1, ncomp, job.avx2);
-            memset(den, 0, 2 * ncomp * sizeof *den);
-            /* a piece's vertices mostly follow each other: its sums stay in
-             * registers while they do (the same additions in the same order) */
-            uint32_t cur = 0;
-            double dacc = 0.0, tacc = 0.0;
-            for (size_t v = 0; v < nv; v++) {
-                const float *A = &area[3 * v];
-                double ar = sqrt((double)A[0] * A[0] + (double)A[1] * A[1] + (double)A[2] * A[2]) / 3.0;
-                if (comp[v] != cur) {
-                    den[cur] = dacc;
-                    tot[cur] = tacc;
-                    cur = comp[v];
-                    dacc = den[cur];
-                    tacc = tot[cur];
-                }
-                dacc += (double)w[v] * ar;
-                tacc += ar;
-            }
-            den[cur] = dacc;
-            tot[cur] = tacc;
+            piece_sums(a, area, w, comp, nv, ncomp, orig, vol1, den, tot);
             /* each vertex's offset at most 5 % of its piece's size (the square
              * root of its area): small voids that smoothing nearly closes
              * would otherwise ask for huge ones */
