@@ -32,7 +32,7 @@ typedef struct bench_input {
 /* ------------------------------------------------------------------ */
 /* Stages: what every run is timed by (write: not part of total).      */
 
-enum { ST_TOTAL, ST_PREPARE, ST_FIELD, ST_EXTRACT, ST_ATTR, ST_WALL, ST_WRITE, ST_COUNT };
+enum { ST_TOTAL, ST_PREPARE, ST_FIELD, ST_EXTRACT, ST_ATTR, ST_WALL, ST_WRITE, ST_POST, ST_COUNT };
 
 /* ------------------------------------------------------------------ */
 /* Cases: one input x field x method x cube size x templates x threads. */

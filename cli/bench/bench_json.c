@@ -6,7 +6,7 @@
 #include "bench_options.h"
 
 static const char *const stage_key[ST_COUNT] = {"total", "prepare",  "field", "extract",
-                                                "attributes", "wall", "write"};
+                                                "attributes", "wall", "write", "post"};
 
 static void json_str(FILE *f, const char *s)
 {

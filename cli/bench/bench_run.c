@@ -204,7 +204,7 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
             bench_samples_push(&s[ST_FIELD], st.ms_field) ||
             bench_samples_push(&s[ST_EXTRACT], st.ms_extract) ||
             bench_samples_push(&s[ST_ATTR], st.ms_attributes) ||
-            bench_samples_push(&s[ST_WALL], t1 - t0) ||
+            bench_samples_push(&s[ST_WALL], t1 - t0) || bench_samples_push(&s[ST_POST], st.ms_post) ||
             (c->has_write && bench_samples_push(&s[ST_WRITE], tw))) {
             snprintf(c->err, sizeof c->err, "out of memory recording samples");
             goto out;
