@@ -56,15 +56,15 @@ static inline double volume_term(const float *pa, const float *pb, const float *
 #endif
 
 int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
-                           size_t *ni, double max_volume, size_t *out_removed)
+                           size_t *ni, double max_volume, uint32_t *roots, size_t *out_removed)
 {
     size_t n = *nv, nt = *ni / 3;
     *out_removed = 0;
     if (n == 0 || nt == 0) return 1;
-    uint32_t *parent = jm_alloc(mem, n * sizeof *parent);
+    uint32_t *parent = roots ? roots : jm_alloc(mem, n * sizeof *parent);
     double *vol = jm_calloc(mem, n, sizeof *vol);
     if (!parent || !vol) {
-        jm_free(mem, parent, n * sizeof *parent);
+        if (!roots) jm_free(mem, parent, n * sizeof *parent);
         jm_free(mem, vol, n * sizeof *vol);
         return 0;
     }
@@ -125,7 +125,7 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         *nv = k;
         *ni = 3 * kt;
     }
-    jm_free(mem, parent, n * sizeof *parent);
+    if (!roots) jm_free(mem, parent, n * sizeof *parent);
     jm_free(mem, vol, n * sizeof *vol);
     *out_removed = removed;
     return 1;

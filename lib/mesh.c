@@ -231,6 +231,8 @@ typedef struct frame_job {
     size_t npend, cappend;
     atomic_int failed;     /* 1 memory, 2 internal; set by any worker */
     uint32_t *iso;         /* sorted indices of isolated particles */
+    uint32_t *roots;       /* the cavity pass's pieces, for smoothing (roots_n entries) */
+    size_t roots_n;
     size_t tmpl_v0, tmpl_i0;
 } frame_job;
 
@@ -628,14 +630,23 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         g.n_isolated = iso;
     }
     double tc0 = jm_now_ms();
+    int roots_ok = 0;
     if (c->drop_cavities) {
         double r3 = (double)c->r * c->r * c->r;
         size_t nv = ctx->nv, ni = ctx->ni;
+        if (c->smooth_iters > 0) {
+            /* smoothing needs the mesh's pieces too: the cavity pass's, when
+             * it removes nothing */
+            job.roots_n = nv;
+            job.roots = jm_alloc(mem, nv * sizeof *job.roots);
+            if (!job.roots) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+        }
         if (!jm_drop_small_cavities(mem, ctx->pos, ctx->nrm, ctx->uv, ctx->idx, &nv, &ni,
-                                    4.0 / 3.0 * M_PI * r3, &st->cavities_removed)) {
+                                    4.0 / 3.0 * M_PI * r3, job.roots, &st->cavities_removed)) {
             s = JM_E_OUT_OF_MEMORY;
             goto out_job;
         }
+        roots_ok = job.roots && st->cavities_removed == 0;
         /* the sphere templates (after tmpl_v0/tmpl_i0) are outward shells,
          * never removed: what went was before them */
         if (g.n_isolated) {
@@ -659,11 +670,12 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
 
     /* post-processing (post.h) */
     if (c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f) {
-        jm_post_mesh pm = {ctx->pos, ctx->nrm, ctx->uv, ctx->idx, ctx->nv, ctx->ni, ctx->nv, ctx->ni};
+        jm_post_mesh pm = {ctx->pos, ctx->nrm, ctx->uv, ctx->idx, ctx->nv, ctx->ni, ctx->nv, ctx->ni, NULL};
         if (g.n_isolated) {
             pm.nv_lattice = job.tmpl_v0;
             pm.ni_lattice = job.tmpl_i0;
         }
+        if (roots_ok) pm.roots = job.roots;
         s = jm_smooth_mesh(mem, ctx->pool, &ctx->post, c, &g, &pm);
         if (s == JM_OK) s = jm_simplify_mesh(mem, c, &pm);
         if (s != JM_OK) goto out_job;
@@ -674,6 +686,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
 
 out_job:
     if (job.iso) jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
+    jm_free(mem, job.roots, job.roots_n * sizeof *job.roots);
     if (job.bmap)
         for (size_t b = 0; b < bs.count; b++) jm_free(mem, job.bmap[b], job.nbmap[b] * 2 * sizeof(uint32_t));
     jm_free(mem, job.pend, job.cappend * 2 * sizeof(uint32_t));

@@ -11,6 +11,7 @@ typedef struct jm_post_mesh {
     uint32_t *idx;
     size_t nv, ni;
     size_t nv_lattice, ni_lattice;
+    const uint32_t *roots; /* NULL, or each vertex's piece as jm_mesh_pieces gives it */
 } jm_post_mesh;
 
 /* Working arrays of the post-processing, kept by the context from frame to

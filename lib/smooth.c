@@ -751,8 +751,12 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
 
         /* connected pieces: union-find, roots the smallest vertex, labels in
          * vertex order (buf holds them for a moment) */
-        jm_mesh_pieces(comp, m->idx, nv, ni / 3);
-        for (size_t v = 0; v < nv; v++) comp[v] = comp[v] == v ? (uint32_t)ncomp++ : comp[comp[v]];
+        const uint32_t *roots = m->roots;
+        if (!roots) {
+            jm_mesh_pieces(comp, m->idx, nv, ni / 3);
+            roots = comp;
+        }
+        for (size_t v = 0; v < nv; v++) comp[v] = roots[v] == v ? (uint32_t)ncomp++ : comp[roots[v]];
         vol0 = scratch_buf(sc, mem, B_VOL, ncomp * 7 * sizeof *vol0);
         if (!vol0) { st = JM_E_OUT_OF_MEMORY; goto out; }
         double *vol1 = vol0 + ncomp, *den = vol1 + ncomp, *tot = den + ncomp, *orig = tot + ncomp;
