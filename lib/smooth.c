@@ -281,29 +281,33 @@ static inline v4f load4(const float *p)
     return r;
 }
 
+static const v4f NEG0 = {-0.0f, -0.0f, -0.0f, -0.0f};
+
 /* The sum of the positions S (4 floats per vertex) of the neighbours nb[s],
- * ..., nb[e - 1], in that order: straight-line code for up to 8 (the usual
- * fan), a loop beyond. Starts from -0, which adds nothing to any float. */
+ * ..., nb[e - 1], in that order, from -0 (which adds nothing to any float):
+ * the whole fan of a vertex of more than 8 (add_slots8 does the others). */
 static inline v4f fan_sum(const float *S, const uint32_t *nb, uint32_t s, uint32_t e)
 {
-    v4f sum = {-0.0f, -0.0f, -0.0f, -0.0f};
-    const uint32_t *q = nb + e;
-#define ADD(j) sum += load4(&S[4 * (size_t)q[-(j)]])
-    switch (e - s) {
-    case 8: ADD(8); /* fall through */
-    case 7: ADD(7); /* fall through */
-    case 6: ADD(6); /* fall through */
-    case 5: ADD(5); /* fall through */
-    case 4: ADD(4); /* fall through */
-    case 3: ADD(3); /* fall through */
-    case 2: ADD(2); /* fall through */
-    case 1: ADD(1); /* fall through */
-    case 0: break;
-    default:
-        for (uint32_t i = s; i < e; i++) sum += load4(&S[4 * (size_t)nb[i]]);
-    }
-#undef ADD
+    v4f sum = NEG0;
+    for (uint32_t i = s; i < e; i++) sum += load4(&S[4 * (size_t)nb[i]]);
     return sum;
+}
+
+/* acc plus the positions S (4 floats per vertex) of the 8 slots q[0..7] of
+ * a row of nb8 or nm8 (doubled indices; the -0 sentinel adds nothing), in
+ * slot order, in straight-line code. From acc = -0 the sum of the slots
+ * alone: -0 + x is x. */
+static inline v4f add_slots8(v4f acc, const float *S, const uint32_t *q)
+{
+    acc += load4(&S[2 * (size_t)q[0]]);
+    acc += load4(&S[2 * (size_t)q[1]]);
+    acc += load4(&S[2 * (size_t)q[2]]);
+    acc += load4(&S[2 * (size_t)q[3]]);
+    acc += load4(&S[2 * (size_t)q[4]]);
+    acc += load4(&S[2 * (size_t)q[5]]);
+    acc += load4(&S[2 * (size_t)q[6]]);
+    acc += load4(&S[2 * (size_t)q[7]]);
+    return acc;
 }
 
 /* The first of the n increasing entries of list that is at least a. */
@@ -330,15 +334,7 @@ static inline void step_one(const sm_job *job, size_t v)
     if (k != 0.0f && d != 0) {
         v4f sum;
         if (d <= 8) {
-            const uint32_t *q = &nb8[8 * v];
-            sum = load4(&S[2 * (size_t)q[0]]);
-            sum += load4(&S[2 * (size_t)q[1]]);
-            sum += load4(&S[2 * (size_t)q[2]]);
-            sum += load4(&S[2 * (size_t)q[3]]);
-            sum += load4(&S[2 * (size_t)q[4]]);
-            sum += load4(&S[2 * (size_t)q[5]]);
-            sum += load4(&S[2 * (size_t)q[6]]);
-            sum += load4(&S[2 * (size_t)q[7]]);
+            sum = add_slots8(NEG0, S, &nb8[8 * v]);
         } else {
             size_t b = lower_bound(job->big, job->nbig, v);
             sum = fan_sum(S, job->bnb, job->bstart[b], job->bstart[b + 1]);
@@ -367,15 +363,7 @@ JM_SM_CLONES static void step_task(void *arg, size_t chunk, int worker)
     const uint32_t *nb8 = job->nb8;
     for (size_t v = a; v < b; v++) {
         v4f p = load4(&S[4 * v]);
-        const uint32_t *q = &nb8[8 * v];
-        v4f sum = load4(&S[2 * (size_t)q[0]]);
-        sum += load4(&S[2 * (size_t)q[1]]);
-        sum += load4(&S[2 * (size_t)q[2]]);
-        sum += load4(&S[2 * (size_t)q[3]]);
-        sum += load4(&S[2 * (size_t)q[4]]);
-        sum += load4(&S[2 * (size_t)q[5]]);
-        sum += load4(&S[2 * (size_t)q[6]]);
-        sum += load4(&S[2 * (size_t)q[7]]);
+        v4f sum = add_slots8(NEG0, S, &nb8[8 * v]);
         p += w[v] * tau * (sum * inv[v] - p);
         memcpy(&D[4 * v], &p, sizeof p);
     }
@@ -517,16 +505,7 @@ JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
     const uint32_t *nm8 = job->nm8;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     for (size_t v = a; v < b; v++) {
-        const uint32_t *q = &nm8[8 * v];
-        v4f t = load4(&S[4 * v]);
-        t += load4(&S[2 * (size_t)q[0]]);
-        t += load4(&S[2 * (size_t)q[1]]);
-        t += load4(&S[2 * (size_t)q[2]]);
-        t += load4(&S[2 * (size_t)q[3]]);
-        t += load4(&S[2 * (size_t)q[4]]);
-        t += load4(&S[2 * (size_t)q[5]]);
-        t += load4(&S[2 * (size_t)q[6]]);
-        t += load4(&S[2 * (size_t)q[7]]);
+        v4f t = add_slots8(load4(&S[4 * v]), S, &nm8[8 * v]);
         t *= ninv[v];
         memcpy(&D[4 * v], &t, sizeof t);
     }
@@ -749,8 +728,9 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         jm_pool_run(pool, nchunks, 1, weight_task, &job);
         if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto out; }
 
-        /* connected pieces: union-find, roots the smallest vertex, labels in
-         * vertex order (buf holds them for a moment) */
+        /* connected pieces (the cavity pass's where it hands them over):
+         * roots the smallest vertex, labels in vertex order, in place (a
+         * vertex's root comes before it) */
         const uint32_t *roots = m->roots;
         if (!roots) {
             jm_mesh_pieces(comp, m->idx, nv, ni / 3);

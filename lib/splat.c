@@ -55,7 +55,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
     ROWS_SETUP                                                                                             \
     jm_span_box sb;                                                                                        \
-    if (SPANNED) jm_span_box_of(span, n, &sb);                                                                 \
+    if (SPANNED) jm_span_box_of(span, n, &sb);                                                             \
     for (size_t k = 0; k < cells; k++) {                                                                   \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
             const float *q = GP(g, p);                                                                     \
