@@ -401,6 +401,22 @@ JM_SM_CLONES static void area_task(void *arg, size_t chunk, int worker)
     }
 }
 
+/* 3 floats into a vector's first lanes (the fourth 0) and back */
+static inline v4f load3(const float *p)
+{
+    v4f r = {p[0], p[1], p[2], 0.0f};
+    return r;
+}
+static inline void store3(float *p, v4f r) { p[0] = r[0], p[1] = r[1], p[2] = r[2]; }
+
+/* n / |n|, or the fallback where |n| is 0: each lane divided by the same
+ * length, one division for the three (the same bits as three) */
+static inline v4f unit3(v4f n, v4f fallback)
+{
+    const float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return l > 0.0f ? n / l : fallback;
+}
+
 /* Volume restoration: moves each vertex along its normal by its weight times
  * its piece's offset, capped (positions job->dst, 4 floats per vertex). */
 static void offset_task(void *arg, size_t chunk, int worker)
@@ -410,22 +426,14 @@ static void offset_task(void *arg, size_t chunk, int worker)
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     for (size_t v = a; v < b; v++) {
         double sd = job->shift[job->comp[v]] * job->w[v], cap = job->cap[job->comp[v]];
-        float s = (float)(sd > cap ? cap : (sd < -cap ? -cap : sd)), n[3];
+        const float s = (float)(sd > cap ? cap : (sd < -cap ? -cap : sd));
         if (s == 0.0f) continue;
-        memcpy(n, &job->area[3 * v], sizeof n);
-        float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        const v4f n = load3(&job->area[3 * v]);
+        const float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (!(l > 0.0f)) continue;
-        for (int k = 0; k < 3; k++) job->dst[4 * v + k] += s * n[k] / l;
-    }
-}
-
-static inline void normalize3(float *n, const float *fallback)
-{
-    float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (l > 0.0f) {
-        n[0] /= l, n[1] /= l, n[2] /= l;
-    } else {
-        n[0] = fallback[0], n[1] = fallback[1], n[2] = fallback[2];
+        /* the fourth lane (0) adds 0 */
+        const v4f q = load4(&job->dst[4 * v]) + s * n / l;
+        memcpy(&job->dst[4 * v], &q, sizeof q);
     }
 }
 
@@ -437,13 +445,9 @@ static void normal_task(void *arg, size_t chunk, int worker)
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
     for (size_t v = a; v < b; v++) {
-        float *n = &job->m->nrm[3 * v], t[3];
-        memcpy(t, &job->area[3 * v], sizeof t);
-        normalize3(t, n);
-        float w = job->w[v];
-        for (int k = 0; k < 3; k++) t[k] = w * t[k] + (1.0f - w) * n[k];
-        normalize3(t, n);
-        memcpy(n, t, sizeof t);
+        float *n = &job->m->nrm[3 * v];
+        const v4f f = load3(n), w = {job->w[v], job->w[v], job->w[v], job->w[v]};
+        store3(n, unit3(w * unit3(load3(&job->area[3 * v]), f) + (1.0f - w) * f, f));
     }
 }
 
@@ -468,13 +472,12 @@ JM_SM_CLONES static void nmask_task(void *arg, size_t chunk, int worker)
         const v4f n = load4(&S[4 * v]);
         uint32_t k = 1;
         if (deg[v] <= 8) {
+            /* every slot in straight-line code: past the fan the sentinel's
+             * -0 gives a product summing to 0, not counted */
             for (uint32_t j = 0; j < 8; j++) {
                 const uint32_t q = nb8[8 * v + j];
-                uint32_t keep = 0;
-                if (j < deg[v]) {
-                    v4f d = load4(&S[2 * (size_t)q]) * n;
-                    keep = d[0] + d[1] + d[2] > 0.0f;
-                }
+                const v4f d = load4(&S[2 * (size_t)q]) * n;
+                const uint32_t keep = d[0] + d[1] + d[2] > 0.0f;
                 nm8[8 * v + j] = keep ? q : sent;
                 k += keep;
             }
@@ -536,11 +539,13 @@ static void finish_task(void *arg, size_t chunk, int worker)
     (void)worker;
     sm_job *job = arg;
     size_t a = chunk * CH, b = a + CH < job->nv ? a + CH : job->nv;
-    for (size_t v = a; v < b; v++) {
-        float *n = &job->m->nrm[3 * v];
-        if (job->tau > 0.0f) normalize3(n, &job->src[3 * v]);
-        if (job->c->uv_mode != JM_UV_NONE) jm_uv(job->c, &job->m->pos[3 * v], n, &job->m->uv[2 * v]);
-    }
+    if (job->tau > 0.0f)
+        for (size_t v = a; v < b; v++) {
+            float *n = &job->m->nrm[3 * v];
+            store3(n, unit3(load3(n), load3(&job->src[3 * v])));
+        }
+    if (job->c->uv_mode != JM_UV_NONE)
+        jm_uv_all(job->c, &job->m->pos[3 * a], &job->m->nrm[3 * a], &job->m->uv[2 * a], b - a);
 }
 
 enum { B_START, B_NB, B_NC, B_W, B_BUF, B_PHI, B_AREA, B_COMP, B_VOL, B_KEEP, B_WIDE_A, B_WIDE_B, B_INV, B_NB8, B_ODD, B_BIG, B_FLAG };
