@@ -608,6 +608,20 @@ static void piece_sums(const float *P, const float *area, const float *w, const 
     for (size_t k = 0; k < ncomp; k++) vol[k] /= 9.0;
 }
 
+/* A pass over the vertices in which each thread takes one contiguous range
+ * of the chunks, the same range in every pass (the caller starts first and
+ * takes the first; one that finds nothing left takes nothing). The passes
+ * read what the last one wrote: a thread finding the vertices it wrote in
+ * its own cache runs each step about twice as fast at 2 threads as threads
+ * taking chunks as they come, whose lines move between cores every step
+ * (measured: a step of the 100k block 0.75 ms at 1 and at 2 threads that
+ * way). Any split gives the same result. */
+static void run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, sm_job *job)
+{
+    const size_t t = (size_t)jm_pool_threads(pool);
+    jm_pool_run(pool, nchunks, (nchunks + t - 1) / t, fn, job);
+}
+
 /* The step sizes of one super-time-stepping cycle of k steps, largest and
  * smallest alternately. */
 static void sts_steps(int k, float *tau)
@@ -761,7 +775,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         widen(a, m->pos, nv);
         for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
         job.src = a;
-        jm_pool_run(pool, nchunks, 1, area_task, &job);
+        run_ranges(pool, nchunks, area_task, &job);
         piece_sums(a, area, w, comp, nv, ncomp, orig, vol0, NULL, NULL);
         size_t nodd = 0;
         for (size_t v = 0; v < nv; v++) nodd += deg[v] - 1 >= 8 || !(w[v] >= 1e-30f);
@@ -779,7 +793,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
                 job.src = a;
                 job.dst = b;
                 job.tau = tau[s];
-                jm_pool_run(pool, nchunks, 1, step_task, &job);
+                run_ranges(pool, nchunks, step_task, &job);
                 float *t = a; a = b; b = t;
             }
         }
@@ -788,7 +802,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
         /* restore each piece's volume: vertex v moves by w_v s along its
          * normal, which changes the volume by s sum_v w_v |A_v| / 3 */
         for (int pass = 0; pass < 2; pass++) {
-            jm_pool_run(pool, nchunks, 1, area_task, &job);
+            run_ranges(pool, nchunks, area_task, &job);
             piece_sums(a, area, w, comp, nv, ncomp, orig, vol1, den, tot);
             /* each vertex's offset at most 5 % of its piece's size (the square
              * root of its area): small voids that smoothing nearly closes
@@ -800,11 +814,11 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             job.comp = comp;
             job.shift = vol1;
             job.cap = tot;
-            jm_pool_run(pool, nchunks, 1, offset_task, &job);
+            run_ranges(pool, nchunks, offset_task, &job);
         }
         if (want_nrm) {
-            jm_pool_run(pool, nchunks, 1, area_task, &job);
-            jm_pool_run(pool, nchunks, 1, normal_task, &job);
+            run_ranges(pool, nchunks, area_task, &job);
+            run_ranges(pool, nchunks, normal_task, &job);
         }
         narrow(m->pos, a, nv);
     }
@@ -827,21 +841,21 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             job.bflag = scratch_buf(sc, mem, B_FLAG, (nfan + 1) * sizeof *job.bflag);
             if (!job.bflag) { st = JM_E_OUT_OF_MEMORY; goto out; }
             job.src = a;
-            jm_pool_run(pool, nchunks, 1, nmask_task, &job);
+            run_ranges(pool, nchunks, nmask_task, &job);
             for (int it = 0; it < niters; it++) {
                 job.src = a;
                 job.dst = b;
-                jm_pool_run(pool, nchunks, 1, nstep_task, &job);
+                run_ranges(pool, nchunks, nstep_task, &job);
                 float *t = a; a = b; b = t;
             }
             narrow(m->nrm, a, nv);
         }
         job.src = keep ? keep : m->nrm;
         job.tau = 1.0f; /* normalise */
-        jm_pool_run(pool, nchunks, 1, finish_task, &job);
+        run_ranges(pool, nchunks, finish_task, &job);
     } else if (c->uv_mode != JM_UV_NONE) {
         job.tau = 0.0f; /* planar UVs: no normals to normalise */
-        jm_pool_run(pool, nchunks, 1, finish_task, &job);
+        run_ranges(pool, nchunks, finish_task, &job);
     }
 
 out:
