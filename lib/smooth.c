@@ -79,13 +79,13 @@ typedef struct sm_job {
     jm_post_mesh *m;
     jm_mem *mem;
     size_t nv;
-    const uint32_t *deg;   /* per vertex: its number of incident triangles (= of neighbours) */
-    const float *inv;      /* per vertex: 1 / its number of neighbours */
-    const uint32_t *nb8;   /* per vertex: for its first 8 incident triangles in triangle order the
+    uint32_t *deg;         /* per vertex: its number of incident triangles (= of neighbours) */
+    float *inv;            /* per vertex: 1 / its number of neighbours */
+    uint32_t *nb8;         /* per vertex: for its first 8 incident triangles in triangle order the
                             * next corner, then nv (a -0 sentinel), each doubled: &S[2 q] is
                             * neighbour q of 4 floats per vertex in one addressing mode
                             * (q < JM_PENDING = 2^31) */
-    const uint32_t *nc8;   /* ... and the corner after it, doubled (past deg: undefined) */
+    uint32_t *nc8;         /* ... and the corner after it, doubled (past deg: undefined) */
     const uint32_t *bstart; /* per big vertex (big[k]): offsets of its whole fan in bnb, bnc */
     const uint32_t *bnb, *bnc; /* the big vertices' fans in triangle order: next and after */
     uint32_t *nm8;         /* normal smoothing: per vertex its counted neighbours (nmask_task) */
@@ -101,6 +101,8 @@ typedef struct sm_job {
     sm_slot *slots;        /* NSLOT per worker */
     sm_corner *corners;    /* NCORNER per worker */
     int failed;
+    struct sm_fans *fans;  /* fan_task: one per range */
+    int nfans;
     const float *src;
     float *dst;
     float tau;
@@ -608,6 +610,69 @@ static void piece_sums(const float *P, const float *area, const float *w, const 
     for (size_t k = 0; k < ncomp; k++) vol[k] /= 9.0;
 }
 
+/* What fan_task finds in its range of vertices: the fan entries past the
+ * 8th (vertex, next corner, the corner after it, in triangle order), and
+ * the count of vertices of more than 8 neighbours and of their entries. */
+typedef struct sm_fans {
+    uint32_t *over;
+    size_t n, cap;
+    size_t nbig, nfan;
+} sm_fans;
+
+/* The fans of the vertices of range `part` (of jm_pool_threads, each a
+ * contiguous range): a pass over every triangle taking the corners at its
+ * own vertices, so that each vertex gets its triangles in triangle order
+ * whatever the split. Per vertex, for each triangle around it, the two other
+ * corners counter-clockwise: the first 8 in its rows of nb8 and nc8
+ * (doubled), padded with nv (the -0 sentinel vertex of the wide positions
+ * and normals), the others in the range's overflow list; its count in deg
+ * and 1 / count in inv. */
+static void fan_task(void *arg, size_t part, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    const size_t nv = job->nv, ni = job->m->ni_lattice, parts = (size_t)job->nfans;
+    const uint32_t va = (uint32_t)(nv * part / parts), vb = (uint32_t)(nv * (part + 1) / parts);
+    uint32_t *deg = job->deg, *nb8 = job->nb8, *nc8 = job->nc8;
+    float *inv = job->inv;
+    sm_fans *f = &job->fans[part];
+    const uint32_t *idx = job->m->idx;
+    memset(deg + va, 0, (size_t)(vb - va) * sizeof *deg);
+    for (size_t t = 0; t + 2 < ni; t += 3) {
+        const uint32_t *T = &idx[t];
+        for (int k = 0; k < 3; k++) {
+            const uint32_t v = T[k];
+            if (v - va >= vb - va) continue; /* another range's */
+            const uint32_t j = deg[v]++, q = T[k == 2 ? 0 : k + 1], r = T[k == 0 ? 2 : k - 1];
+            if (j < 8) {
+                nb8[8 * (size_t)v + j] = 2 * q;
+                nc8[8 * (size_t)v + j] = 2 * r;
+                continue;
+            }
+            if (f->n == f->cap) {
+                const size_t nc = f->cap ? 2 * f->cap : 1024;
+                uint32_t *o = jm_realloc(job->mem, f->over, 3 * f->cap * sizeof *o, 3 * nc * sizeof *o);
+                if (!o) {
+                    job->failed = 1;
+                    return;
+                }
+                f->over = o;
+                f->cap = nc;
+            }
+            f->over[3 * f->n] = v;
+            f->over[3 * f->n + 1] = q;
+            f->over[3 * f->n + 2] = r;
+            f->n++;
+        }
+    }
+    for (size_t v = va; v < vb; v++) {
+        const uint32_t d = deg[v];
+        inv[v] = d > 0 ? 1.0f / (float)d : 0.0f;
+        for (uint32_t j = d; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
+        if (d > 8) f->nbig++, f->nfan += d;
+    }
+}
+
 /* A pass over the vertices in which each thread takes one contiguous range
  * of the chunks, the same range in every pass (the caller starts first and
  * takes the first; one that finds nothing left takes nothing). The passes
@@ -660,33 +725,28 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     size_t ncomp = 0;
     sm_slot *slots = NULL;
     sm_corner *corners = NULL;
+    sm_fans *fans = NULL;
     sm_job job;
     memset(&job, 0, sizeof job);
     if (!deg || !nb8 || !nc8 || !w || !buf || !inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    memset(deg, 0, nv * sizeof *deg);
 
-    /* the fans: per vertex, for each triangle around it in triangle order,
-     * the two other corners counter-clockwise; the first 8 in the vertex's
-     * row of nb8, nc8, padded with nv (the -0 sentinel vertex of the wide
-     * positions and normals), all of them for the few vertices of more
-     * (big, bstart, bnb, bnc) */
-    for (size_t t = 0; t + 2 < ni; t += 3) {
-        const uint32_t *T = &m->idx[t];
-        for (int k = 0; k < 3; k++) {
-            const uint32_t v = T[k], j = deg[v]++;
-            if (j < 8) {
-                nb8[8 * (size_t)v + j] = 2 * T[k == 2 ? 0 : k + 1];
-                nc8[8 * (size_t)v + j] = 2 * T[k == 0 ? 2 : k - 1];
-            }
-        }
-    }
+    /* the fans (fan_task), a range of vertices per thread; all of them for
+     * the few vertices of more than 8 (big, bstart, bnb, bnc) */
+    fans = jm_calloc(mem, (size_t)threads, sizeof *fans);
+    if (!fans) { st = JM_E_OUT_OF_MEMORY; goto out; }
+    job.m = m;
+    job.mem = mem;
+    job.nv = nv;
+    job.deg = deg;
+    job.nb8 = nb8;
+    job.nc8 = nc8;
+    job.inv = inv;
+    job.fans = fans;
+    job.nfans = threads;
+    jm_pool_run(pool, (size_t)threads, 1, fan_task, &job);
+    if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto out; }
     size_t nbig = 0, nfan = 0;
-    for (size_t v = 0; v < nv; v++) {
-        const uint32_t d = deg[v];
-        inv[v] = d > 0 ? 1.0f / (float)d : 0.0f;
-        for (uint32_t j = d; j < 8; j++) nb8[8 * v + j] = 2 * (uint32_t)nv;
-        if (d > 8) nbig++, nfan += d;
-    }
+    for (int k = 0; k < threads; k++) nbig += fans[k].nbig, nfan += fans[k].nfan;
     uint32_t *big = scratch_buf(sc, mem, B_BIG, (3 * nbig + 1) * sizeof *big);
     uint32_t *bnb = scratch_buf(sc, mem, B_NB, (2 * nfan + 1) * sizeof *bnb);
     if (!big || !bnb) { st = JM_E_OUT_OF_MEMORY; goto out; }
@@ -701,22 +761,26 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
             nbig++;
         }
     if (nbig > 0) {
-        /* the big vertices' whole fans: their place in big in buf for a moment */
+        /* the big vertices' whole fans: the first 8 from their rows, then
+         * the overflow lists (each vertex in one, in triangle order); their
+         * place in big in buf for a moment */
         uint32_t *pos = (uint32_t *)buf;
-        for (size_t k = 0; k < nbig; k++) pos[big[k]] = (uint32_t)k;
-        for (size_t t = 0; t + 2 < ni; t += 3) {
-            const uint32_t *T = &m->idx[t];
-            for (int k = 0; k < 3; k++) {
-                const uint32_t v = T[k];
-                if (deg[v] <= 8) continue;
-                const uint32_t i = bfill[pos[v]]++;
-                bnb[i] = T[k == 2 ? 0 : k + 1];
-                bnc[i] = T[k == 0 ? 2 : k - 1];
+        for (size_t k = 0; k < nbig; k++) {
+            const size_t v = big[k];
+            pos[v] = (uint32_t)k;
+            for (int j = 0; j < 8; j++) {
+                bnb[bfill[k] + j] = nb8[8 * v + j] / 2;
+                bnc[bfill[k] + j] = nc8[8 * v + j] / 2;
             }
+            bfill[k] += 8;
         }
+        for (int f = 0; f < threads; f++)
+            for (size_t e = 0; e < fans[f].n; e++) {
+                const uint32_t *o = &fans[f].over[3 * e], i = bfill[pos[o[0]]]++;
+                bnb[i] = o[1];
+                bnc[i] = o[2];
+            }
     }
-    job.deg = deg;
-    job.nc8 = nc8;
     job.bstart = bstart;
     job.bnb = bnb;
     job.bnc = bnc;
@@ -724,11 +788,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.nbig = nbig;
     job.c = c;
     job.g = g;
-    job.m = m;
-    job.mem = mem;
-    job.nv = nv;
-    job.inv = inv;
-    job.nb8 = nb8;
     job.w = w;
     job.area = NULL;
 
@@ -859,6 +918,9 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     }
 
 out:
+    if (fans)
+        for (int k = 0; k < threads; k++) jm_free(mem, fans[k].over, 3 * fans[k].cap * sizeof *fans[k].over);
+    jm_free(mem, fans, (size_t)threads * sizeof *fans);
     if (slots)
         for (size_t i = 0; i < (size_t)threads * NSLOT; i++) jm_free(mem, slots[i].buf, slots[i].cap * 4 * sizeof(float));
     jm_free(mem, slots, (size_t)threads * NSLOT * sizeof *slots);
