@@ -726,23 +726,16 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     sm_slot *slots = NULL;
     sm_corner *corners = NULL;
     sm_fans *fans = NULL;
-    sm_job job;
-    memset(&job, 0, sizeof job);
+    /* what every task reads; the rest is set as it is made */
+    sm_job job = {.c = c, .g = g, .m = m, .mem = mem, .nv = nv, .deg = deg, .inv = inv, .nb8 = nb8, .nc8 = nc8,
+                  .w = w, .nfans = threads};
     if (!deg || !nb8 || !nc8 || !w || !buf || !inv) { st = JM_E_OUT_OF_MEMORY; goto out; }
 
     /* the fans (fan_task), a range of vertices per thread; all of them for
      * the few vertices of more than 8 (big, bstart, bnb, bnc) */
     fans = jm_calloc(mem, (size_t)threads, sizeof *fans);
     if (!fans) { st = JM_E_OUT_OF_MEMORY; goto out; }
-    job.m = m;
-    job.mem = mem;
-    job.nv = nv;
-    job.deg = deg;
-    job.nb8 = nb8;
-    job.nc8 = nc8;
-    job.inv = inv;
     job.fans = fans;
-    job.nfans = threads;
     jm_pool_run(pool, (size_t)threads, 1, fan_task, &job);
     if (job.failed) { st = JM_E_OUT_OF_MEMORY; goto out; }
     size_t nbig = 0, nfan = 0;
@@ -786,10 +779,6 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
     job.bnc = bnc;
     job.big = big;
     job.nbig = nbig;
-    job.c = c;
-    job.g = g;
-    job.w = w;
-    job.area = NULL;
 
     if (iters > 0) {
         phi = scratch_buf(sc, mem, B_PHI, g->n * sizeof *phi);
