@@ -1,5 +1,6 @@
 /* anisotropy.c - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, splat, normals. */
 #include "anisotropy.h"
+#include "aniso_moments.h"
 #include "sym3.h"
 #include <math.h>
 #include <stdlib.h>
@@ -36,29 +37,40 @@
  * amp = V h^3 det G keeps each kernel's integral that of the isotropic one. */
 #define JM_AN_DRIFT 0.27
 
-void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, float V, float out[JM_AN_STRIDE])
+/* the weighted mean of the neighbourhood (relative to the particle) and its
+ * covariance; 1 if the covariance sets the axes (enough neighbours) */
+static int an_cov(const jm_config *c, const jm_an_acc *a, double mean[3], double C[6])
 {
-    double mean[3] = {0, 0, 0}, s[3], R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    mean[0] = mean[1] = mean[2] = 0.0;
     if (a->w > 0.0)
         for (int k = 0; k < 3; k++) mean[k] = a->s[k] / a->w;
+    if (!(a->count >= c->an_neps && a->w > 0.0)) return 0;
+    C[0] = a->ss[0] / a->w - mean[0] * mean[0];
+    C[1] = a->ss[1] / a->w - mean[0] * mean[1];
+    C[2] = a->ss[2] / a->w - mean[0] * mean[2];
+    C[3] = a->ss[3] / a->w - mean[1] * mean[1];
+    C[4] = a->ss[4] / a->w - mean[1] * mean[2];
+    C[5] = a->ss[5] / a->w - mean[2] * mean[2];
+    return 1;
+}
+
+/* the kernel from the mean and, where an_cov returned 1, the covariance's
+ * eigenvalues (descending) and eigenvectors (NULL otherwise) */
+static void an_kernel(const jm_config *c, const float xi[3], const jm_an_acc *a, const double mean[3],
+                      const double *val, const double *vec, float V, float out[JM_AN_STRIDE])
+{
+    double s[3], R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     double ml = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
     double drift = a->w > 0.0 ? JM_AN_DRIFT * c->an_radius * (a->w - 1.0) / a->w : 0.0;
     double move = ml > drift ? c->an_lambda * (ml - drift) / ml : 0.0;
     for (int k = 0; k < 3; k++) out[k] = (float)(xi[k] + move * mean[k]);
     s[0] = s[1] = s[2] = c->an_kn;
-    if (a->count >= c->an_neps && a->w > 0.0) {
-        double C[6] = {a->ss[0] / a->w - mean[0] * mean[0], a->ss[1] / a->w - mean[0] * mean[1],
-                       a->ss[2] / a->w - mean[0] * mean[2], a->ss[3] / a->w - mean[1] * mean[1],
-                       a->ss[4] / a->w - mean[1] * mean[2], a->ss[5] / a->w - mean[2] * mean[2]};
-        double val[3], vec[9];
-        jm_sym3_eigen(C, val, vec);
-        if (val[0] > 0.0) {
-            double sv[3];
-            for (int k = 0; k < 3; k++) sv[k] = val[k] > val[0] / c->an_kr ? val[k] : val[0] / c->an_kr;
-            double gm = cbrt(sv[0] * sv[1] * sv[2]);
-            for (int k = 0; k < 3; k++) s[k] = c->an_ks * sv[k] / gm;
-            memcpy(R, vec, sizeof R);
-        }
+    if (val && val[0] > 0.0) {
+        double sv[3];
+        for (int k = 0; k < 3; k++) sv[k] = val[k] > val[0] / c->an_kr ? val[k] : val[0] / c->an_kr;
+        double gm = cbrt(sv[0] * sv[1] * sv[2]);
+        for (int k = 0; k < 3; k++) s[k] = c->an_ks * sv[k] / gm;
+        memcpy(R, vec, sizeof R);
     }
     /* M = R diag(1 / (h s_k)^2) R^T; box half-side along axis a:
      * 2 sqrt((M^-1)_aa) = 2 h sqrt(sum_k s_k^2 R_ak^2) */
@@ -83,6 +95,14 @@ void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, flo
     out[13] = (float)(1.0 / (h * smax) * (1.0 - 16.0 * kappa * 0x1p-24));
 }
 
+void jm_an_finish(const jm_config *c, const float xi[3], const jm_an_acc *a, float V, float out[JM_AN_STRIDE])
+{
+    double mean[3], C[6], val[3], vec[9];
+    const int e = an_cov(c, a, mean, C);
+    if (e) jm_sym3_eigen(C, val, vec);
+    an_kernel(c, xi, a, mean, e ? val : NULL, e ? vec : NULL, V, out);
+}
+
 typedef struct an_job {
     jm_grid *g;
     const jm_config *c;
@@ -96,9 +116,9 @@ typedef struct an_job {
 
 /* The neighbourhoods of the particles of cell ci: the candidates of the
  * cells around are copied once into structure-of-arrays form (padded to 8
- * with far-away points), then each particle sums over them in 8 lanes added
- * in a fixed order. */
-JM_AN_CLONES static void an_cell(void *arg, size_t ci, int worker)
+ * with far-away points), then the particles sum over them (aniso_moments.h),
+ * two at a time. */
+static void an_cell(void *arg, size_t ci, int worker)
 {
     an_job *job = arg;
     jm_grid *g = job->g;
@@ -145,47 +165,42 @@ JM_AN_CLONES static void an_cell(void *arg, size_t ci, int worker)
     const size_t cap = job->soa_cap[worker], groups = (m + 7) / 8;
     const float *xs = job->soa[worker], *ys = xs + cap, *zs = ys + cap;
     const float R2 = c->an_radius * c->an_radius, invR = 1.0f / c->an_radius;
-    for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
-        const float *xi = GP(g, i);
-        jm_an_acc a;
-        memset(&a, 0, sizeof a);
-        if (g->isolated[i]) {
+    /* the particles not isolated, up to 8 at a time: their moments two at a
+     * time, then the eigen-decompositions of their covariances together */
+    uint32_t batch[8];
+    int nb = 0;
+    for (uint32_t i = g->cell_start[ci]; i <= g->cell_start[ci + 1]; i++) {
+        const int last = i == g->cell_start[ci + 1];
+        if (!last && g->isolated[i]) {
+            jm_an_acc a;
+            memset(&a, 0, sizeof a);
             a.w = 1.0; /* alone: the isotropic kernel where it is */
-        } else {
-            /* lanes: w, w dx, w dy, w dz, w dx dx, w dx dy, w dx dz, w dy dy,
-             * w dy dz, w dz dz, count */
-            float L[11][8];
-            memset(L, 0, sizeof L);
-            for (size_t b = 0; b < groups; b++)
-                for (int l = 0; l < 8; l++) {
-                    const float ex = xs[8 * b + l] - xi[0], ey = ys[8 * b + l] - xi[1], ez = zs[8 * b + l] - xi[2];
-                    const float d2 = ex * ex + ey * ey + ez * ez;
-                    const float u = sqrtf(d2) * invR;
-                    const float w = d2 < R2 ? 1.0f - u * u * u : 0.0f;
-                    const float wx = w * ex, wy = w * ey, wz = w * ez;
-                    L[0][l] += w;
-                    L[1][l] += wx;
-                    L[2][l] += wy;
-                    L[3][l] += wz;
-                    L[4][l] += wx * ex;
-                    L[5][l] += wx * ey;
-                    L[6][l] += wx * ez;
-                    L[7][l] += wy * ey;
-                    L[8][l] += wy * ez;
-                    L[9][l] += wz * ez;
-                    L[10][l] += d2 < R2 && d2 > 0.0f ? 1.0f : 0.0f;
-                }
-            double sum[11];
-            for (int k = 0; k < 11; k++) {
-                sum[k] = 0.0;
-                for (int l = 0; l < 8; l++) sum[k] += L[k][l];
-            }
-            a.w = sum[0];
-            for (int k = 0; k < 3; k++) a.s[k] = sum[1 + k];
-            for (int k = 0; k < 6; k++) a.ss[k] = sum[4 + k];
-            a.count = (int)sum[10];
+            jm_an_finish(c, GP(g, i), &a, g->weight[i], AN(g, i));
+            continue;
         }
-        jm_an_finish(c, xi, &a, g->weight[i], AN(g, i));
+        if (!last) batch[nb++] = i;
+        if (nb < 8 && !last) continue;
+        double sum[8][JM_AN_MOMENTS];
+        for (int k = 0; k + 1 < nb; k += 2)
+            jm_an_moments2(xs, ys, zs, groups, GP(g, batch[k]), GP(g, batch[k + 1]), R2, invR, sum[k], sum[k + 1]);
+        if (nb & 1) jm_an_moments(xs, ys, zs, groups, GP(g, batch[nb - 1]), R2, invR, sum[nb - 1]);
+        jm_an_acc acc[8];
+        double mean[8][3], C[8][6], val[8][3], vec[8][9];
+        int with[8], ne = 0;
+        for (int k = 0; k < nb; k++) {
+            acc[k].w = sum[k][0];
+            for (int e = 0; e < 3; e++) acc[k].s[e] = sum[k][1 + e];
+            for (int e = 0; e < 6; e++) acc[k].ss[e] = sum[k][4 + e];
+            acc[k].count = (int)sum[k][10];
+            with[k] = an_cov(c, &acc[k], mean[k], C[ne]) ? ne++ : -1;
+        }
+        jm_sym3_eigen_n(ne, (const double(*)[6])C, val, vec);
+        for (int k = 0; k < nb; k++) {
+            const int e = with[k];
+            an_kernel(c, GP(g, batch[k]), &acc[k], mean[k], e >= 0 ? val[e] : NULL, e >= 0 ? vec[e] : NULL,
+                      g->weight[batch[k]], AN(g, batch[k]));
+        }
+        nb = 0;
     }
 }
 

@@ -1,0 +1,141 @@
+/* aniso_moments.c - the weighted moments of a particle's neighbourhood for the anisotropic kernels, two particles at a time (AVX-512) or one (C). */
+#include "aniso_moments.h"
+#include <pthread.h>
+#include <string.h>
+#include <math.h>
+
+/* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
+ * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
+#define JM_AM_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#else
+#define JM_AM_CLONES
+#endif
+
+JM_AM_CLONES void jm_an_moments(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
+                                float R2, float invR, double out[JM_AN_MOMENTS])
+{
+    float L[JM_AN_MOMENTS][8];
+    memset(L, 0, sizeof L);
+    const float px = p[0], py = p[1], pz = p[2];
+    for (size_t b = 0; b < groups; b++)
+        for (int l = 0; l < 8; l++) {
+            const float ex = xs[8 * b + l] - px, ey = ys[8 * b + l] - py, ez = zs[8 * b + l] - pz;
+            const float d2 = ex * ex + ey * ey + ez * ez;
+            const float u = sqrtf(d2) * invR;
+            const float w = d2 < R2 ? 1.0f - u * u * u : 0.0f;
+            const float wx = w * ex, wy = w * ey, wz = w * ez;
+            L[0][l] += w;
+            L[1][l] += wx;
+            L[2][l] += wy;
+            L[3][l] += wz;
+            L[4][l] += wx * ex;
+            L[5][l] += wx * ey;
+            L[6][l] += wx * ez;
+            L[7][l] += wy * ey;
+            L[8][l] += wy * ez;
+            L[9][l] += wz * ez;
+            L[10][l] += d2 < R2 && d2 > 0.0f ? 1.0f : 0.0f;
+        }
+    for (int k = 0; k < JM_AN_MOMENTS; k++) {
+        out[k] = 0.0;
+        for (int l = 0; l < 8; l++) out[k] += L[k][l];
+    }
+}
+
+static void moments2_c(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
+                       const float q[3], float R2, float invR, double out_p[JM_AN_MOMENTS],
+                       double out_q[JM_AN_MOMENTS])
+{
+    jm_an_moments(xs, ys, zs, groups, p, R2, invR, out_p);
+    jm_an_moments(xs, ys, zs, groups, q, R2, invR, out_q);
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define AM_SIMD 1
+/* Lanes 0-7 particle p, lanes 8-15 particle q, each group of 8 candidates
+ * in both halves: every lane does what lane l of jm_an_moments does, the
+ * same IEEE operations (no FMA) in the same order. */
+__attribute__((target("avx512f"))) static void moments2_avx512(const float *xs, const float *ys, const float *zs,
+                                                              size_t groups, const float p[3], const float q[3],
+                                                              float R2, float invR, double out_p[JM_AN_MOMENTS],
+                                                              double out_q[JM_AN_MOMENTS])
+{
+    const __mmask16 hi = 0xFF00;
+    const __m512 px = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[0]), _mm512_set1_ps(q[0]));
+    const __m512 py = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[1]), _mm512_set1_ps(q[1]));
+    const __m512 pz = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[2]), _mm512_set1_ps(q[2]));
+    const __m512 vR2 = _mm512_set1_ps(R2), vinv = _mm512_set1_ps(invR), one = _mm512_set1_ps(1.0f);
+    const __m512 zero = _mm512_setzero_ps();
+    __m512 L0 = zero, L1 = zero, L2 = zero, L3 = zero, L4 = zero, L5 = zero, L6 = zero, L7 = zero, L8 = zero;
+    __m512 L9 = zero, L10 = zero;
+#define AM_LOAD2(a) _mm512_castpd_ps(_mm512_broadcast_f64x4(_mm256_castps_pd(_mm256_loadu_ps(a))))
+    for (size_t b = 0; b < groups; b++) {
+        const __m512 ex = _mm512_sub_ps(AM_LOAD2(xs + 8 * b), px);
+        const __m512 ey = _mm512_sub_ps(AM_LOAD2(ys + 8 * b), py);
+        const __m512 ez = _mm512_sub_ps(AM_LOAD2(zs + 8 * b), pz);
+        const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(ex, ex), _mm512_mul_ps(ey, ey)), _mm512_mul_ps(ez, ez));
+        const __m512 u = _mm512_mul_ps(_mm512_sqrt_ps(d2), vinv);
+        const __mmask16 in = _mm512_cmp_ps_mask(d2, vR2, _CMP_LT_OQ);
+        const __m512 w = _mm512_maskz_sub_ps(in, one, _mm512_mul_ps(_mm512_mul_ps(u, u), u));
+        const __m512 wx = _mm512_mul_ps(w, ex), wy = _mm512_mul_ps(w, ey), wz = _mm512_mul_ps(w, ez);
+        L0 = _mm512_add_ps(L0, w);
+        L1 = _mm512_add_ps(L1, wx);
+        L2 = _mm512_add_ps(L2, wy);
+        L3 = _mm512_add_ps(L3, wz);
+        L4 = _mm512_add_ps(L4, _mm512_mul_ps(wx, ex));
+        L5 = _mm512_add_ps(L5, _mm512_mul_ps(wx, ey));
+        L6 = _mm512_add_ps(L6, _mm512_mul_ps(wx, ez));
+        L7 = _mm512_add_ps(L7, _mm512_mul_ps(wy, ey));
+        L8 = _mm512_add_ps(L8, _mm512_mul_ps(wy, ez));
+        L9 = _mm512_add_ps(L9, _mm512_mul_ps(wz, ez));
+        const __mmask16 nb = _mm512_mask_cmp_ps_mask(in, d2, zero, _CMP_GT_OQ);
+        L10 = _mm512_add_ps(L10, _mm512_maskz_mov_ps(nb, one));
+    }
+#undef AM_LOAD2
+    float s[JM_AN_MOMENTS][16];
+    _mm512_storeu_ps(s[0], L0);
+    _mm512_storeu_ps(s[1], L1);
+    _mm512_storeu_ps(s[2], L2);
+    _mm512_storeu_ps(s[3], L3);
+    _mm512_storeu_ps(s[4], L4);
+    _mm512_storeu_ps(s[5], L5);
+    _mm512_storeu_ps(s[6], L6);
+    _mm512_storeu_ps(s[7], L7);
+    _mm512_storeu_ps(s[8], L8);
+    _mm512_storeu_ps(s[9], L9);
+    _mm512_storeu_ps(s[10], L10);
+    for (int k = 0; k < JM_AN_MOMENTS; k++) {
+        out_p[k] = out_q[k] = 0.0;
+        for (int l = 0; l < 8; l++) {
+            out_p[k] += s[k][l];
+            out_q[k] += s[k][8 + l];
+        }
+    }
+}
+#endif
+
+typedef void (*moments2_fn)(const float *, const float *, const float *, size_t, const float *, const float *, float,
+                            float, double *, double *);
+static moments2_fn chosen2 = moments2_c;
+static pthread_once_t once = PTHREAD_ONCE_INIT;
+/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest
+ * the CPU runs; any other variant takes the C path */
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+static void choose(void)
+{
+#ifdef AM_SIMD
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0) chosen2 = moments2_avx512;
+#endif
+}
+
+void jm_an_moments2(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
+                    const float q[3], float R2, float invR, double out_p[JM_AN_MOMENTS], double out_q[JM_AN_MOMENTS])
+{
+    pthread_once(&once, choose);
+    chosen2(xs, ys, zs, groups, p, q, R2, invR, out_p, out_q);
+}

@@ -1,0 +1,19 @@
+/* aniso_moments.h - the weighted moments of a particle's neighbourhood for the anisotropic kernels, two particles at a time (AVX-512) or one (C). */
+#ifndef JETMESH_ANISO_MOMENTS_H
+#define JETMESH_ANISO_MOMENTS_H
+#include <stddef.h>
+
+/* The moments of particle (px, py, pz) over the candidates xs[t], ys[t],
+ * zs[t], t < 8 groups (padded with far points): with d = x_t - p,
+ * d2 = |d|^2 and w = 1 - (sqrt(d2) invR)^3 where d2 < R2, else 0, the
+ * sums of w, w d (3), w d d^T (6: xx, xy, xz, yy, yz, zz) and of the
+ * neighbours (0 < d2 < R2), in that order. Each is summed in 8 float lanes,
+ * lane l taking the candidates t = l (mod 8) in order, then the lanes in
+ * double in order 0..7: the same bits on every path. */
+#define JM_AN_MOMENTS 11
+void jm_an_moments(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3], float R2,
+                   float invR, double out[JM_AN_MOMENTS]);
+/* The same for two particles p and q (AVX-512 runs both in one pass). */
+void jm_an_moments2(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
+                    const float q[3], float R2, float invR, double out_p[JM_AN_MOMENTS], double out_q[JM_AN_MOMENTS]);
+#endif
