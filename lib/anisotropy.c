@@ -207,7 +207,9 @@ static void an_cell(void *arg, size_t ci, int worker)
 void jm_aniso_free(jm_grid *g, jm_mem *mem)
 {
     if (g->an) jm_free(mem, g->an, (g->n ? g->n : 1) * JM_AN_STRIDE * sizeof(float));
+    if (g->an_cellbox) jm_free(mem, g->an_cellbox, (g->ncells ? g->ncells : 1) * 6 * sizeof(float));
     g->an = NULL;
+    g->an_cellbox = NULL;
 }
 
 jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c)
@@ -251,6 +253,29 @@ jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config
             if (r > reach) reach = r;
         }
     }
+    /* each cell's union of its kernels' boxes, their ends formed as
+     * jm_aniso_candidates forms them */
+    g->an_cellbox = jm_alloc(mem, (g->ncells ? g->ncells : 1) * 6 * sizeof(float));
+    if (!g->an_cellbox) {
+        jm_aniso_free(g, mem);
+        return JM_E_OUT_OF_MEMORY;
+    }
+    for (size_t ci = 0; ci < g->ncells; ci++) {
+        float *cb = g->an_cellbox + 6 * ci;
+        for (int k = 0; k < 3; k++) {
+            cb[k] = INFINITY;
+            cb[3 + k] = -INFINITY;
+        }
+        for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
+            if (g->isolated[i]) continue;
+            const float *a = AN(g, i);
+            for (int k = 0; k < 3; k++) {
+                const float l = a[k] - a[10 + k], h = a[k] + a[10 + k];
+                cb[k] = l < cb[k] ? l : cb[k];
+                cb[3 + k] = h > cb[3 + k] ? h : cb[3 + k];
+            }
+        }
+    }
     g->an_reach = reach * 1.0001f;
     return JM_OK;
 }
@@ -261,15 +286,22 @@ int jm_aniso_candidates(const jm_grid *g, const jm_hood *hood, const float lo[3]
 {
     const float x0 = lo[0] - margin, x1 = hi[0] + margin, y0 = lo[1] - margin, y1 = hi[1] + margin;
     const float z0 = lo[2] - margin, z1 = hi[2] + margin;
-    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     if (hood->particles > out->cap) {
         uint32_t *b = jm_realloc(out->mem, out->idx, out->cap * sizeof *b, hood->particles * sizeof *b);
         if (!b) return 0;
         out->idx = b;
         out->cap = hood->particles;
     }
-    size_t m = 0;
-    for (size_t k = 0; k < cells; k++)
+    size_t m = 0, k = 0;
+    /* a cell whose kernels' box union misses the box holds no candidate
+     * (each kernel's box lies within it, its ends the same floats) */
+    for (int cz = 0; cz < hood->n[2]; cz++)
+        for (int cy = 0; cy < hood->n[1]; cy++)
+            for (int cx = 0; cx < hood->n[0]; cx++, k++) {
+                if (hood->range[2 * k] == hood->range[2 * k + 1]) continue;
+                const uint32_t ci = jm_grid_cell(g, hood->c0[0] + cx, hood->c0[1] + cy, hood->c0[2] + cz);
+                const float *cb = g->an_cellbox + 6 * (size_t)ci;
+                if (cb[3] < x0 || cb[0] > x1 || cb[4] < y0 || cb[1] > y1 || cb[5] < z0 || cb[2] > z1) continue;
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
             const float *a = AN(g, p);
             if (a[0] + a[10] < x0 || a[0] - a[10] > x1 || a[1] + a[11] < y0 || a[1] - a[11] > y1 || a[2] + a[12] < z0 ||
@@ -277,6 +309,7 @@ int jm_aniso_candidates(const jm_grid *g, const jm_hood *hood, const float lo[3]
                 continue;
             out->idx[m++] = p;
         }
+            }
     out->n = m;
     return 1;
 }

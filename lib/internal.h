@@ -165,6 +165,9 @@ typedef struct jm_grid {
     float *an;            /* sph anisotropic: JM_AN_STRIDE floats per sorted
                              particle (see anisotropy.h) */
     float an_reach;       /* largest |centre - x| + ellipsoid box half-side */
+    float *an_cellbox;    /* sph anisotropic: per cell, 6 floats (lo x, y,
+                             z, hi x, y, z): the union of its kernels' boxes
+                             (not isolated; empty: lo > hi) */
     size_t refused_bytes; /* after a JM_E_TOO_LARGE of jm_grid_build: the
                              memory it would have needed */
     uint32_t *dense;      /* when the particles' box of cells is no bigger
