@@ -1,4 +1,4 @@
-/* anisotropy.c - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, splat, normals. */
+/* anisotropy.c - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, and the kernels each block looks at. */
 #include "anisotropy.h"
 #include "aniso_moments.h"
 #include "sym3.h"
@@ -8,14 +8,6 @@
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 #define AN(g, i) (&(g)->an[JM_AN_STRIDE * (size_t)(i)])
-
-/* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
- * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_AN_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#else
-#define JM_AN_CLONES
-#endif
 
 /* Yu & Turk, "Reconstructing surfaces of particle-based fluids using
  * anisotropic kernels", ACM TOG 32(1), 2013, section 3, with three changes
@@ -341,39 +333,4 @@ void jm_aniso_gather(const jm_grid *g, const jm_an_cand *cand, const float lo[3]
         b[0] = b[8] = b[16] = 1e30f;
         b[24] = 1.0f; /* m00 */
     }
-}
-
-JM_AN_CLONES int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3])
-{
-    /* grad phi = sum amp w'(q) / q M d, with q = sqrt(d^T M d); 8 lanes
-     * summed in a fixed order */
-    float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
-    size_t groups = (l->n + 7) / 8;
-    for (size_t gi = 0; gi < groups; gi++) {
-        const float *b = l->buf + JM_AN_GROUP * gi;
-        for (int t = 0; t < 8; t++) {
-            const float d0 = p[0] - b[t], d1 = p[1] - b[8 + t], d2 = p[2] - b[16 + t];
-            const float m00 = b[24 + t], m01 = b[32 + t], m02 = b[40 + t], m11 = b[48 + t], m12 = b[56 + t];
-            const float m22 = b[64 + t], amp = b[72 + t];
-            const float md0 = m00 * d0 + m01 * d1 + m02 * d2;
-            const float md1 = m01 * d0 + m11 * d1 + m12 * d2;
-            const float md2 = m02 * d0 + m12 * d1 + m22 * d2;
-            const float q2 = d0 * md0 + d1 * md1 + d2 * md2;
-            const float q = sqrtf(q2);
-            const float k = q2 < 4.0f && q2 > 0.0f ? amp * jm_cubic_dw(q) / q : 0.0f;
-            gx[t] += k * md0;
-            gy[t] += k * md1;
-            gz[t] += k * md2;
-        }
-    }
-    float o[3] = {0, 0, 0};
-    for (int t = 0; t < 8; t++) {
-        o[0] -= gx[t];
-        o[1] -= gy[t];
-        o[2] -= gz[t];
-    }
-    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    if (!(len > 0.0f) || !isfinite(len)) return 0;
-    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
-    return 1;
 }

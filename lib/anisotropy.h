@@ -1,4 +1,4 @@
-/* anisotropy.h - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, splat, normals. */
+/* anisotropy.h - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, and the kernels each block looks at. */
 #ifndef JETMESH_ANISOTROPY_H
 #define JETMESH_ANISOTROPY_H
 #include "field.h"
@@ -70,7 +70,4 @@ typedef struct jm_an_list {
 } jm_an_list;
 /* From the candidates of a block whose widened box holds [lo, hi]. */
 void jm_aniso_gather(const jm_grid *g, const jm_an_cand *cand, const float lo[3], const float hi[3], jm_an_list *out);
-/* Outward unit normal at p: minus the field's gradient over the gathered
- * kernels; 0 if it vanishes (nrm untouched). */
-int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3]);
 #endif

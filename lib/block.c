@@ -1,6 +1,7 @@
 /* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
 #include "block.h"
 #include "aniso_cull.h"
+#include "aniso_normals.h"
 #include "aniso_splat.h"
 #include "cull.h"
 #include "metavertex.h"
@@ -274,10 +275,7 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
         if (c->aniso) {
             jm_aniso_gather(g, &s->an_cand, plo, phi, &s->an_list);
             if (s->an_list.n == SIZE_MAX) return 0;
-            for (uint32_t k = start[q]; k < start[q + 1]; k++) {
-                uint32_t v = s->order[k];
-                jm_aniso_normal(&s->an_list, &out->pos[3 * v], &out->nrm[3 * v]);
-            }
+            jm_aniso_normals(&s->an_list, s->order + start[q], start[q + 1] - start[q], out->pos, out->nrm);
             continue;
         }
         jm_sph_gather(g, c, &s->hood, plo, phi, &s->soa);

@@ -1,0 +1,143 @@
+/* aniso_normals.c - unit normals of the anisotropic SPH field at mesh vertices, two at a time (AVX-512) or one (C). */
+#include "aniso_normals.h"
+#include <math.h>
+#include <pthread.h>
+
+/* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
+ * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
+#define JM_AN_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
+#else
+#define JM_AN_CLONES
+#endif
+
+JM_AN_CLONES int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3])
+{
+    /* grad phi = sum amp w'(q) / q M d, with q = sqrt(d^T M d); 8 lanes
+     * summed in a fixed order */
+    float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
+    size_t groups = (l->n + 7) / 8;
+    for (size_t gi = 0; gi < groups; gi++) {
+        const float *b = l->buf + JM_AN_GROUP * gi;
+        for (int t = 0; t < 8; t++) {
+            const float d0 = p[0] - b[t], d1 = p[1] - b[8 + t], d2 = p[2] - b[16 + t];
+            const float m00 = b[24 + t], m01 = b[32 + t], m02 = b[40 + t], m11 = b[48 + t], m12 = b[56 + t];
+            const float m22 = b[64 + t], amp = b[72 + t];
+            const float md0 = m00 * d0 + m01 * d1 + m02 * d2;
+            const float md1 = m01 * d0 + m11 * d1 + m12 * d2;
+            const float md2 = m02 * d0 + m12 * d1 + m22 * d2;
+            const float q2 = d0 * md0 + d1 * md1 + d2 * md2;
+            const float q = sqrtf(q2);
+            const float k = q2 < 4.0f && q2 > 0.0f ? amp * jm_cubic_dw(q) / q : 0.0f;
+            gx[t] += k * md0;
+            gy[t] += k * md1;
+            gz[t] += k * md2;
+        }
+    }
+    float o[3] = {0, 0, 0};
+    for (int t = 0; t < 8; t++) {
+        o[0] -= gx[t];
+        o[1] -= gy[t];
+        o[2] -= gz[t];
+    }
+    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(len > 0.0f) || !isfinite(len)) return 0;
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
+    return 1;
+}
+
+/* the end of jm_aniso_normal from its lanes' sums */
+static int an_unit(const float *gx, const float *gy, const float *gz, float nrm[3])
+{
+    float o[3] = {0, 0, 0};
+    for (int t = 0; t < 8; t++) {
+        o[0] -= gx[t];
+        o[1] -= gy[t];
+        o[2] -= gz[t];
+    }
+    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(len > 0.0f) || !isfinite(len)) return 0;
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
+    return 1;
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define AN_SIMD 1
+/* Lanes 0-7 vertex p, lanes 8-15 vertex q, each group of 8 kernels in both
+ * halves: every lane does what lane t of jm_aniso_normal does, the same
+ * IEEE operations (no FMA) in the same order. */
+__attribute__((target("avx512f"))) static void normal2_avx512(const jm_an_list *l, const float p[3],
+                                                             const float q[3], float np[3], float nq[3])
+{
+    const __mmask16 hi = 0xFF00;
+    const __m512 px = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[0]), _mm512_set1_ps(q[0]));
+    const __m512 py = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[1]), _mm512_set1_ps(q[1]));
+    const __m512 pz = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[2]), _mm512_set1_ps(q[2]));
+    const __m512 zero = _mm512_setzero_ps(), four = _mm512_set1_ps(4.0f), two = _mm512_set1_ps(2.0f);
+    const __m512 one = _mm512_set1_ps(1.0f), c075 = _mm512_set1_ps(-0.75f), c3 = _mm512_set1_ps(3.0f);
+    __m512 gx = zero, gy = zero, gz = zero;
+    const size_t groups = (l->n + 7) / 8;
+#define LD2(a) _mm512_castpd_ps(_mm512_broadcast_f64x4(_mm256_castps_pd(_mm256_loadu_ps(a))))
+    for (size_t gi = 0; gi < groups; gi++) {
+        const float *b = l->buf + JM_AN_GROUP * gi;
+        const __m512 d0 = _mm512_sub_ps(px, LD2(b)), d1 = _mm512_sub_ps(py, LD2(b + 8));
+        const __m512 d2 = _mm512_sub_ps(pz, LD2(b + 16));
+        const __m512 m00 = LD2(b + 24), m01 = LD2(b + 32), m02 = LD2(b + 40), m11 = LD2(b + 48);
+        const __m512 m12 = LD2(b + 56), m22 = LD2(b + 64), amp = LD2(b + 72);
+        const __m512 md0 =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(m00, d0), _mm512_mul_ps(m01, d1)), _mm512_mul_ps(m02, d2));
+        const __m512 md1 =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(m01, d0), _mm512_mul_ps(m11, d1)), _mm512_mul_ps(m12, d2));
+        const __m512 md2 =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(m02, d0), _mm512_mul_ps(m12, d1)), _mm512_mul_ps(m22, d2));
+        const __m512 q2 =
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(d0, md0), _mm512_mul_ps(d1, md1)), _mm512_mul_ps(d2, md2));
+        const __mmask16 in = _mm512_cmp_ps_mask(q2, four, _CMP_LT_OQ) & _mm512_cmp_ps_mask(q2, zero, _CMP_GT_OQ);
+        if (!in) continue; /* every lane adds +0 or -0 to sums never -0 */
+        const __m512 qq = _mm512_sqrt_ps(q2);
+        /* jm_cubic_dw: -0.75 a a + 3 b b, a = max(2 - q, 0), b = max(1 - q, 0) */
+        const __m512 A = _mm512_max_ps(_mm512_sub_ps(two, qq), zero), B = _mm512_max_ps(_mm512_sub_ps(one, qq), zero);
+        const __m512 dw = _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(c075, A), A), _mm512_mul_ps(_mm512_mul_ps(c3, B), B));
+        const __m512 k = _mm512_maskz_div_ps(in, _mm512_mul_ps(amp, dw), qq);
+        gx = _mm512_add_ps(gx, _mm512_mul_ps(k, md0));
+        gy = _mm512_add_ps(gy, _mm512_mul_ps(k, md1));
+        gz = _mm512_add_ps(gz, _mm512_mul_ps(k, md2));
+    }
+#undef LD2
+    float sx[16], sy[16], sz[16];
+    _mm512_storeu_ps(sx, gx);
+    _mm512_storeu_ps(sy, gy);
+    _mm512_storeu_ps(sz, gz);
+    an_unit(sx, sy, sz, np);
+    an_unit(sx + 8, sy + 8, sz + 8, nq);
+}
+#endif
+
+static int wide;
+static pthread_once_t once = PTHREAD_ONCE_INIT;
+/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest
+ * the CPU runs; any other variant takes the C path */
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+static void choose(void)
+{
+#ifdef AN_SIMD
+    __builtin_cpu_init();
+    wide = __builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0;
+#endif
+}
+
+void jm_aniso_normals(const jm_an_list *l, const uint32_t *idx, size_t count, const float *pos, float *nrm)
+{
+    pthread_once(&once, choose);
+    size_t k = 0;
+#ifdef AN_SIMD
+    if (wide)
+        for (; k + 1 < count; k += 2)
+            normal2_avx512(l, &pos[3 * (size_t)idx[k]], &pos[3 * (size_t)idx[k + 1]], &nrm[3 * (size_t)idx[k]],
+                           &nrm[3 * (size_t)idx[k + 1]]);
+#endif
+    for (; k < count; k++) jm_aniso_normal(l, &pos[3 * (size_t)idx[k]], &nrm[3 * (size_t)idx[k]]);
+}
