@@ -1,6 +1,6 @@
 /* aniso_moments.c - the weighted moments of a particle's neighbourhood for the anisotropic kernels, two particles at a time (AVX-512) or one (C). */
 #include "aniso_moments.h"
-#include <pthread.h>
+#include "cpu.h"
 #include <string.h>
 #include <math.h>
 
@@ -41,14 +41,6 @@ JM_AM_CLONES void jm_an_moments(const float *xs, const float *ys, const float *z
         out[k] = 0.0;
         for (int l = 0; l < 8; l++) out[k] += L[k][l];
     }
-}
-
-static void moments2_c(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
-                       const float q[3], float R2, float invR, double out_p[JM_AN_MOMENTS],
-                       double out_q[JM_AN_MOMENTS])
-{
-    jm_an_moments(xs, ys, zs, groups, p, R2, invR, out_p);
-    jm_an_moments(xs, ys, zs, groups, q, R2, invR, out_q);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -116,26 +108,15 @@ __attribute__((target("avx512f"))) static void moments2_avx512(const float *xs, 
 }
 #endif
 
-typedef void (*moments2_fn)(const float *, const float *, const float *, size_t, const float *, const float *, float,
-                            float, double *, double *);
-static moments2_fn chosen2 = moments2_c;
-static pthread_once_t once = PTHREAD_ONCE_INIT;
-/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest
- * the CPU runs; any other variant takes the C path */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-static void choose(void)
-{
-#ifdef AM_SIMD
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0) chosen2 = moments2_avx512;
-#endif
-}
-
 void jm_an_moments2(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
                     const float q[3], float R2, float invR, double out_p[JM_AN_MOMENTS], double out_q[JM_AN_MOMENTS])
 {
-    pthread_once(&once, choose);
-    chosen2(xs, ys, zs, groups, p, q, R2, invR, out_p, out_q);
+#ifdef AM_SIMD
+    if (jm_cpu_avx512()) {
+        moments2_avx512(xs, ys, zs, groups, p, q, R2, invR, out_p, out_q);
+        return;
+    }
+#endif
+    jm_an_moments(xs, ys, zs, groups, p, R2, invR, out_p);
+    jm_an_moments(xs, ys, zs, groups, q, R2, invR, out_q);
 }

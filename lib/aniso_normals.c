@@ -1,7 +1,7 @@
 /* aniso_normals.c - unit normals of the anisotropic SPH field at mesh vertices, two at a time (AVX-512) or one (C). */
 #include "aniso_normals.h"
+#include "cpu.h"
 #include <math.h>
-#include <pthread.h>
 
 /* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
  * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
@@ -34,31 +34,7 @@ JM_AN_CLONES int jm_aniso_normal(const jm_an_list *l, const float p[3], float nr
             gz[t] += k * md2;
         }
     }
-    float o[3] = {0, 0, 0};
-    for (int t = 0; t < 8; t++) {
-        o[0] -= gx[t];
-        o[1] -= gy[t];
-        o[2] -= gz[t];
-    }
-    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    if (!(len > 0.0f) || !isfinite(len)) return 0;
-    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
-    return 1;
-}
-
-/* the end of jm_aniso_normal from its lanes' sums */
-static int an_unit(const float *gx, const float *gy, const float *gz, float nrm[3])
-{
-    float o[3] = {0, 0, 0};
-    for (int t = 0; t < 8; t++) {
-        o[0] -= gx[t];
-        o[1] -= gy[t];
-        o[2] -= gz[t];
-    }
-    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    if (!(len > 0.0f) || !isfinite(len)) return 0;
-    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
-    return 1;
+    return jm_normal_from_lanes8(gx, gy, gz, nrm);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -109,32 +85,16 @@ __attribute__((target("avx512f"))) static void normal2_avx512(const jm_an_list *
     _mm512_storeu_ps(sx, gx);
     _mm512_storeu_ps(sy, gy);
     _mm512_storeu_ps(sz, gz);
-    an_unit(sx, sy, sz, np);
-    an_unit(sx + 8, sy + 8, sz + 8, nq);
+    jm_normal_from_lanes8(sx, sy, sz, np);
+    jm_normal_from_lanes8(sx + 8, sy + 8, sz + 8, nq);
 }
 #endif
-
-static int wide;
-static pthread_once_t once = PTHREAD_ONCE_INIT;
-/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest
- * the CPU runs; any other variant takes the C path */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-static void choose(void)
-{
-#ifdef AN_SIMD
-    __builtin_cpu_init();
-    wide = __builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0;
-#endif
-}
 
 void jm_aniso_normals(const jm_an_list *l, const uint32_t *idx, size_t count, const float *pos, float *nrm)
 {
-    pthread_once(&once, choose);
     size_t k = 0;
 #ifdef AN_SIMD
-    if (wide)
+    if (jm_cpu_avx512())
         for (; k + 1 < count; k += 2)
             normal2_avx512(l, &pos[3 * (size_t)idx[k]], &pos[3 * (size_t)idx[k + 1]], &nrm[3 * (size_t)idx[k]],
                            &nrm[3 * (size_t)idx[k + 1]]);

@@ -107,6 +107,22 @@ static inline float jm_cubic_dw(float q) /* d/dq of jm_cubic_w */
     b = b > 0.0f ? b : 0.0f;
     return -0.75f * a * a + 3.0f * b * b;
 }
+/* The outward unit normal from a field gradient summed in 8 lanes (gx[l],
+ * gy[l], gz[l]): minus their sum in lane order, normalised; 0 if it
+ * vanishes or is not finite (nrm untouched). */
+static inline int jm_normal_from_lanes8(const float *gx, const float *gy, const float *gz, float nrm[3])
+{
+    float o[3] = {0, 0, 0};
+    for (int l = 0; l < 8; l++) {
+        o[0] -= gx[l];
+        o[1] -= gy[l];
+        o[2] -= gz[l];
+    }
+    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
+    if (!(len > 0.0f) || !isfinite(len)) return 0;
+    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
+    return 1;
+}
 
 /* ---- open-addressing hash map uint64 -> uint32 (hashmap.c) */
 typedef struct jm_hashmap {

@@ -91,14 +91,5 @@ JM_CLONES int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3
             gz[l] += k * dz;
         }
     }
-    float o[3] = {0, 0, 0};
-    for (int l = 0; l < 8; l++) {
-        o[0] -= gx[l];
-        o[1] -= gy[l];
-        o[2] -= gz[l];
-    }
-    float len = sqrtf(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-    if (!(len > 0.0f) || !isfinite(len)) return 0;
-    for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
-    return 1;
+    return jm_normal_from_lanes8(gx, gy, gz, nrm);
 }

@@ -1,7 +1,7 @@
 /* sym3.c - eigen-decomposition of symmetric 3x3 matrices (cyclic Jacobi rotations), one at a time or eight in AVX-512 lanes. */
 #include "sym3.h"
+#include "cpu.h"
 #include <math.h>
-#include <pthread.h>
 
 static void sym3_order(double m[3][3], double v[3][3], double val[3], double vec[9]);
 
@@ -148,27 +148,13 @@ __attribute__((target("avx512f"))) static void eigen8_avx512(int n, const double
 }
 #endif
 
-static void eigen8_c(int n, const double (*a)[6], double (*val)[3], double (*vec)[9])
-{
-    for (int i = 0; i < n; i++) jm_sym3_eigen(a[i], val[i], vec[i]);
-}
-
-typedef void (*eigen8_fn)(int, const double (*)[6], double (*)[3], double (*)[9]);
-static eigen8_fn eigen8 = eigen8_c;
-static pthread_once_t once = PTHREAD_ONCE_INIT;
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-static void choose(void)
-{
-#ifdef SYM3_SIMD
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0) eigen8 = eigen8_avx512;
-#endif
-}
-
 void jm_sym3_eigen_n(int n, const double (*a)[6], double (*val)[3], double (*vec)[9])
 {
-    pthread_once(&once, choose);
-    for (int i = 0; i < n; i += 8) eigen8(n - i < 8 ? n - i : 8, a + i, val + i, vec + i);
+#ifdef SYM3_SIMD
+    if (jm_cpu_avx512()) {
+        for (int i = 0; i < n; i += 8) eigen8_avx512(n - i < 8 ? n - i : 8, a + i, val + i, vec + i);
+        return;
+    }
+#endif
+    for (int i = 0; i < n; i++) jm_sym3_eigen(a[i], val[i], vec[i]);
 }

@@ -1,0 +1,23 @@
+/* cpu.c - which of the library's optional SIMD paths this CPU and build run. */
+#include "cpu.h"
+#include <pthread.h>
+
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+
+static int avx512;
+static pthread_once_t once = PTHREAD_ONCE_INIT;
+static void probe(void)
+{
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+    avx512 = __builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0;
+#endif
+}
+
+int jm_cpu_avx512(void)
+{
+    pthread_once(&once, probe);
+    return avx512;
+}
