@@ -1,0 +1,152 @@
+/* test_simd_pairs.c - the AVX-512 paths that take two particles, two vertices or eight matrices per pass give the bits of their one-at-a-time paths. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* internal (white-box test): the paths under test and the switch between them */
+#include "../lib/aniso_moments.h"
+#include "../lib/aniso_normals.h"
+#include "../lib/cpu.h"
+#include "../lib/sym3.h"
+
+static float frand(unsigned *s)
+{
+    *s = *s * 1103515245u + 12345u;
+    return (float)((*s >> 8) & 0xFFFFFF) / (float)0x1000000;
+}
+
+static void say_path(void)
+{
+    /* on a CPU without AVX-512 both sides run the same C path: the test
+     * then checks only the batching */
+    print_message("AVX-512 paths %s\n", jm_cpu_avx512() ? "on" : "off (not on this CPU or build)");
+}
+
+/* Symmetric matrices of every kind the covariances give, and the awkward
+ * ones: diagonal (no rotation at all), zero, repeated eigenvalues, an entry
+ * already zero (that rotation skipped), tiny and huge scales, and runs that
+ * end after different numbers of sweeps side by side. */
+static void test_eigen_batch_bits(void **state)
+{
+    (void)state;
+    say_path();
+    enum { N = 203 };
+    static double a[N][6], val[N][3], vec[N][9];
+    unsigned s = 7;
+    for (int i = 0; i < N; i++) {
+        for (int e = 0; e < 6; e++) a[i][e] = 2.0 * frand(&s) - 1.0;
+        a[i][0] += 2.0, a[i][3] += 2.0, a[i][5] += 2.0;
+        switch (i % 9) {
+        case 0: a[i][1] = a[i][2] = a[i][4] = 0.0; break;          /* diagonal */
+        case 1: memset(a[i], 0, sizeof a[i]); break;                /* zero */
+        case 2: a[i][0] = a[i][3] = a[i][5] = 1.0; a[i][1] = a[i][2] = a[i][4] = 0.0; break;
+        case 3: a[i][2] = 0.0; break;                               /* one rotation skipped */
+        case 4: for (int e = 0; e < 6; e++) a[i][e] *= 1e-9; break; /* tiny */
+        case 5: for (int e = 0; e < 6; e++) a[i][e] *= 1e12; break; /* huge */
+        case 6: a[i][1] = 1e-17; a[i][2] = a[i][4] = 0.0; break;   /* converged at once */
+        case 7: a[i][0] = a[i][3]; a[i][5] = a[i][0]; break;        /* equal diagonal */
+        default: break;
+        }
+    }
+    /* every batch size, so that every lane count runs */
+    for (int n = 1; n <= 17; n++) {
+        for (int i0 = 0; i0 + n <= N; i0 += n) {
+            jm_sym3_eigen_n(n, (const double(*)[6])a + i0, val + i0, vec + i0);
+            for (int i = i0; i < i0 + n; i++) {
+                double v1[3], e1[9];
+                jm_sym3_eigen(a[i], v1, e1);
+                if (memcmp(v1, val[i], sizeof v1) || memcmp(e1, vec[i], sizeof e1))
+                    fail_msg("matrix %d (batch of %d): the batch differs from one at a time", i, n);
+            }
+        }
+    }
+}
+
+/* Neighbourhoods of random points around two particles: points at the
+ * particle itself (d2 = 0: weight, no neighbour), at exactly the radius (no
+ * weight), far away, and the far padding. */
+static void test_moments_pair_bits(void **state)
+{
+    (void)state;
+    enum { CAP = 8 * 60 };
+    static float xs[CAP], ys[CAP], zs[CAP];
+    unsigned s = 11;
+    const float Rn = 0.2f, R2 = Rn * Rn, invR = 1.0f / Rn;
+    for (int round = 0; round < 200; round++) {
+        const size_t m = 1 + (size_t)(frand(&s) * (CAP - 8)), groups = (m + 7) / 8;
+        const float p[3] = {frand(&s) * 0.1f, frand(&s) * 0.1f, frand(&s) * 0.1f};
+        const float q[3] = {p[0] + 0.05f * frand(&s), p[1] - 0.05f * frand(&s), p[2]};
+        for (size_t t = 0; t < m; t++) {
+            xs[t] = p[0] + 0.5f * (2 * frand(&s) - 1);
+            ys[t] = p[1] + 0.5f * (2 * frand(&s) - 1);
+            zs[t] = p[2] + 0.5f * (2 * frand(&s) - 1);
+            if (t % 13 == 0) xs[t] = p[0], ys[t] = p[1], zs[t] = p[2];
+            if (t % 17 == 0) xs[t] = p[0] + Rn, ys[t] = p[1], zs[t] = p[2];
+            if (t % 19 == 0) xs[t] = q[0], ys[t] = q[1], zs[t] = q[2];
+        }
+        for (size_t t = m; t < 8 * groups; t++) xs[t] = ys[t] = zs[t] = 1e30f;
+        double a2[JM_AN_MOMENTS], b2[JM_AN_MOMENTS], a1[JM_AN_MOMENTS], b1[JM_AN_MOMENTS];
+        jm_an_moments2(xs, ys, zs, groups, p, q, R2, invR, a2, b2);
+        jm_an_moments(xs, ys, zs, groups, p, R2, invR, a1);
+        jm_an_moments(xs, ys, zs, groups, q, R2, invR, b1);
+        if (memcmp(a1, a2, sizeof a1) || memcmp(b1, b2, sizeof b1))
+            fail_msg("round %d (%zu points): the pair differs from one at a time", round, m);
+        if (!(a1[0] > 0.0)) fail_msg("round %d: no weight at all (the test would prove nothing)", round);
+    }
+}
+
+/* Random kernels (positive definite M, amplitudes), padded as
+ * jm_aniso_gather pads; vertices near and far, and one on a kernel's centre
+ * (q = 0: no term), in odd and even counts. */
+static void test_normals_pair_bits(void **state)
+{
+    (void)state;
+    enum { KER = 8 * 12, NV = 41 };
+    static float buf[KER / 8 * JM_AN_GROUP];
+    unsigned s = 5;
+    jm_an_list l = {buf, 0, KER, NULL};
+    for (int round = 0; round < 100; round++) {
+        l.n = 1 + (size_t)(frand(&s) * (KER - 1));
+        for (size_t m = 0; m < (l.n + 7) / 8 * 8; m++) {
+            float *b = buf + JM_AN_GROUP * (m / 8) + m % 8;
+            if (m >= l.n) { /* jm_aniso_gather's padding */
+                for (int f = 0; f < 10; f++) b[8 * f] = 0.0f;
+                b[0] = b[8] = b[16] = 1e30f;
+                b[24] = 1.0f;
+                continue;
+            }
+            for (int a = 0; a < 3; a++) b[8 * a] = 0.2f * frand(&s);
+            const float g0 = 20.0f + 10.0f * frand(&s), g1 = 20.0f + 10.0f * frand(&s), c = 5.0f * frand(&s);
+            b[24] = g0 * g0, b[32] = c, b[40] = 0.5f * c, b[48] = g1 * g1, b[56] = 0.0f, b[64] = g0 * g1;
+            b[72] = 0.5f + frand(&s);
+        }
+        float pos[3 * NV], n1[3 * NV], n2[3 * NV];
+        uint32_t idx[NV];
+        const size_t nv = 1 + (size_t)(frand(&s) * (NV - 1));
+        for (size_t v = 0; v < nv; v++) {
+            idx[v] = (uint32_t)(nv - 1 - v); /* not in order */
+            for (int a = 0; a < 3; a++) pos[3 * v + a] = 0.2f * frand(&s) - 0.02f + (v % 7 == 0 ? 5.0f : 0.0f);
+        }
+        memcpy(pos, buf, sizeof(float)); /* vertex 0 on kernel 0's centre in x */
+        for (size_t k = 0; k < 3 * NV; k++) n1[k] = n2[k] = 7.0f; /* untouched where the gradient vanishes */
+        for (size_t v = 0; v < nv; v++) jm_aniso_normal(&l, &pos[3 * (size_t)idx[v]], &n1[3 * (size_t)idx[v]]);
+        jm_aniso_normals(&l, idx, nv, pos, n2);
+        if (memcmp(n1, n2, sizeof n1)) fail_msg("round %d (%zu kernels, %zu vertices): pairs differ", round, l.n, nv);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_eigen_batch_bits),
+        cmocka_unit_test(test_moments_pair_bits),
+        cmocka_unit_test(test_normals_pair_bits),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
