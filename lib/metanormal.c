@@ -64,15 +64,16 @@ static inline float weight(const pass *P, float v, int *ok)
     return x * x * (3.0f - 2.0f * x);
 }
 
-/* Parts lo..hi (per axis) of the sorted points, each vertex once. */
+/* Parts lo..hi (per axis) of the sorted points, each vertex once: the
+ * parts lo[0]..hi[0] of a row follow one another (x fastest), so their
+ * vertices are one range. */
 #define FOR_PART_VERTICES(P, lo, hi, s, e, ...)                                                            \
     for (int pk_ = lo[2]; pk_ <= hi[2]; pk_++)                                                           \
-        for (int pj_ = lo[1]; pj_ <= hi[1]; pj_++)                                                       \
-            for (int pi_ = lo[0]; pi_ <= hi[0]; pi_++) {                                                 \
-                const size_t part_ = ((size_t)pk_ * (P)->np + pj_) * (P)->np + pi_;                      \
-                const size_t s = (P)->ps[part_], e = (P)->ps[part_ + 1];                                 \
-                __VA_ARGS__                                                                              \
-            }
+        for (int pj_ = lo[1]; pj_ <= hi[1]; pj_++) {                                                     \
+            const size_t row_ = ((size_t)pk_ * (P)->np + pj_) * (P)->np;                                 \
+            const size_t s = (P)->ps[row_ + lo[0]], e = (P)->ps[row_ + hi[0] + 1];                       \
+            __VA_ARGS__                                                                                  \
+        }
 
 static void ball_c(const pass *P, const int lo[3], const int hi[3], const float *q)
 {

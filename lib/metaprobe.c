@@ -105,21 +105,21 @@ typedef struct rows {
 } rows;
 
 /* The parts lo..hi (per axis; np a side, vertices ps[part] to
- * ps[part + 1]) visited in runs of W vertices from the start of each (the
- * last shifted back to end at the part's end, or at the array's: a run
- * reaching into another part's vertices gives them their true values,
- * which changes nothing). */
+ * ps[part + 1]; the parts lo[0]..hi[0] of a row follow one another, x
+ * fastest, so their vertices are one range) visited in runs of W vertices
+ * from the start of each row's range (the last shifted back to end at the
+ * array's end: a run reaching into other vertices gives them their true
+ * values, which changes nothing). */
 #define FOR_RUNS(W, ps, np, lo, hi, n, k, ...)                                                             \
     for (int pk_ = lo[2]; pk_ <= hi[2]; pk_++)                                                           \
-        for (int pj_ = lo[1]; pj_ <= hi[1]; pj_++)                                                       \
-            for (int pi_ = lo[0]; pi_ <= hi[0]; pi_++) {                                                 \
-                const size_t part_ = ((size_t)pk_ * (np) + pj_) * (np) + pi_;                            \
-                const size_t end_ = ps[part_ + 1];                                                       \
-                for (size_t s_ = ps[part_]; s_ < end_; s_ += (W)) {                                      \
-                    const size_t k = s_ + (W) <= (n) ? s_ : (n) - (W);                                   \
-                    __VA_ARGS__                                                                          \
-                }                                                                                        \
-            }
+        for (int pj_ = lo[1]; pj_ <= hi[1]; pj_++) {                                                     \
+            const size_t row_ = ((size_t)pk_ * (np) + pj_) * (np);                                       \
+            const size_t end_ = ps[row_ + hi[0] + 1];                                                    \
+            for (size_t s_ = ps[row_ + lo[0]]; s_ < end_; s_ += (W)) {                                   \
+                const size_t k = s_ + (W) <= (n) ? s_ : (n) - (W);                                       \
+                __VA_ARGS__                                                                              \
+            }                                                                                            \
+        }
 
 /* Four vertices at a time: the piece's value at each, kept where it beats
  * the largest so far (the same float operations in the SSE2 and the plain
