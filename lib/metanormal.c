@@ -1,5 +1,6 @@
 /* metanormal.c - metasphere vertex normals blended from every ball and neck within the blend band of each vertex. */
 #include "metanormal.h"
+#include "cpu.h"
 #include <math.h>
 #include <string.h>
 
@@ -144,9 +145,10 @@ static void wide_choose(void)
 {
     __builtin_cpu_init();
     wide = __builtin_cpu_supports("avx2") != 0;
+    if (wide && jm_cpu_avx512()) wide = 2;
 }
 
-/* runs of eight sorted points from each part's start (the last shifted
+/* runs of eight sorted points from each row's start (the last shifted
  * back to end at the array's end); lanes outside [s, e) are masked off,
  * so each vertex gets each piece once */
 #define FOR_RUNS8(P, lo, hi, k, lanes, ...)                                                                \
@@ -260,6 +262,131 @@ __attribute__((target("avx2"), always_inline)) static inline void link8_(const p
         add8(P->az, k, m, w, oz);
     })
 }
+/* The same kernels in runs of 16 in AVX-512 (where the pass has 16 points
+ * or more): each lane does what a lane of ball8_ and link8_ does, the same
+ * operations in the same order, so the same bits. */
+#define FOR_RUNS16(P, lo, hi, k, lanes, ...)                                                               \
+    FOR_PART_VERTICES(P, lo, hi, s_, e_, {                                                               \
+        for (size_t r_ = s_; r_ < e_; r_ += 16) {                                                        \
+            const size_t k = r_ + 16 <= (P)->n ? r_ : (P)->n - 16;                                       \
+            const __m512i ix_ = _mm512_add_epi32(_mm512_set1_epi32((int)k),                              \
+                                                 _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)); \
+            const __mmask16 lanes = _mm512_cmpgt_epi32_mask(ix_, _mm512_set1_epi32((int)r_ - 1)) &       \
+                                    _mm512_cmpgt_epi32_mask(_mm512_set1_epi32((int)e_), ix_);            \
+            __VA_ARGS__                                                                                  \
+        }                                                                                                \
+    })
+#define B16(x) _mm512_set1_ps(x)
+__attribute__((target("avx512f"))) static inline __m512 weight16(const pass *P, __m512 v, __mmask16 *ok)
+{
+    __m512 g = _mm512_max_ps(_mm512_sub_ps(B16(P->thr), v), _mm512_setzero_ps());
+    __m512 x = _mm512_sub_ps(B16(1.0f), _mm512_mul_ps(g, B16(P->inv_tau)));
+    *ok = _mm512_cmp_ps_mask(x, _mm512_setzero_ps(), _CMP_GT_OQ);
+    return _mm512_mul_ps(_mm512_mul_ps(x, x), _mm512_sub_ps(B16(3.0f), _mm512_mul_ps(B16(2.0f), x)));
+}
+__attribute__((target("avx512f"))) static inline void add16(float *a, size_t k, __mmask16 m, __m512 w, __m512 n)
+{
+    __m512 old = _mm512_loadu_ps(a + k);
+    _mm512_storeu_ps(a + k, _mm512_mask_add_ps(old, m, old, _mm512_mul_ps(w, n)));
+}
+__attribute__((target("avx512f"), always_inline)) static inline void ball16_(const pass *P, const int lo[3],
+                                                                              const int hi[3], const float *q,
+                                                                              const int probe)
+{
+    const __m512 qx = B16(q[0]), qy = B16(q[1]), qz = B16(q[2]), zero = _mm512_setzero_ps();
+    FOR_RUNS16(P, lo, hi, k, lanes, {
+        __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(P->x + k), qx), dy = _mm512_sub_ps(_mm512_loadu_ps(P->y + k), qy);
+        __m512 dz = _mm512_sub_ps(_mm512_loadu_ps(P->z + k), qz);
+        __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
+        __mmask16 near = lanes & _mm512_cmp_ps_mask(d2, B16(P->rb2), _CMP_LT_OQ);
+        if (!near) continue;
+        __m512 d = _mm512_sqrt_ps(d2);
+        __m512 v = _mm512_sub_ps(B16(1.0f), _mm512_mul_ps(d, B16(P->inv_r)));
+        if (probe) {
+            __m512 old = _mm512_loadu_ps(P->vm + k);
+            _mm512_storeu_ps(P->vm + k, _mm512_mask_max_ps(old, lanes, v, old));
+        }
+        __mmask16 ok;
+        __m512 w = weight16(P, v, &ok);
+        __mmask16 m = ok & near & _mm512_cmp_ps_mask(d, zero, _CMP_GT_OQ);
+        if (!m) continue;
+        __m512 id = _mm512_div_ps(B16(1.0f), d);
+        add16(P->ax, k, m, w, _mm512_mul_ps(dx, id));
+        add16(P->ay, k, m, w, _mm512_mul_ps(dy, id));
+        add16(P->az, k, m, w, _mm512_mul_ps(dz, id));
+    })
+}
+
+__attribute__((target("avx512f"), always_inline)) static inline void link16_(const pass *P, const int lo[3],
+                                                                              const int hi[3], const float *q,
+                                                                              const float *u, float D, float rr2,
+                                                                              float rrp2, const int probe)
+{
+    const __m512 qx = B16(q[0]), qy = B16(q[1]), qz = B16(q[2]), ux = B16(u[0]), uy = B16(u[1]), uz = B16(u[2]);
+    const __m512 dd = B16(D), r2 = B16(rr2), zero = _mm512_setzero_ps(), ir = B16(P->inv_r);
+    FOR_RUNS16(P, lo, hi, k, lanes, {
+        __m512 wx = _mm512_sub_ps(_mm512_loadu_ps(P->x + k), qx), wy = _mm512_sub_ps(_mm512_loadu_ps(P->y + k), qy);
+        __m512 wz = _mm512_sub_ps(_mm512_loadu_ps(P->z + k), qz);
+        __m512 s = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wx, ux), _mm512_mul_ps(wy, uy)), _mm512_mul_ps(wz, uz));
+        __m512 q2 = _mm512_sub_ps(
+            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wx, wx), _mm512_mul_ps(wy, wy)), _mm512_mul_ps(wz, wz)),
+            _mm512_mul_ps(s, s));
+        __mmask16 in = lanes & _mm512_cmp_ps_mask(s, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(s, dd, _CMP_LE_OQ) &
+                       _mm512_cmp_ps_mask(q2, r2, _CMP_LT_OQ);
+        if (!in) continue;
+        __m512 sm = _mm512_sub_ps(dd, s);
+        __m512 near = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(s, sm, _CMP_LT_OQ), sm, s);
+        __m512 sg = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(s, sm, _CMP_LE_OQ), B16(-1.0f), B16(1.0f));
+        __m512 t = _mm512_mul_ps(near, ir), t2 = _mm512_mul_ps(t, t);
+        __m512 qq = _mm512_sqrt_ps(_mm512_max_ps(q2, zero));
+        /* jm_cos_quarter and jm_sin_quarter, term by term */
+        __m512 cs = _mm512_sub_ps(B16(1.0f / 40320), _mm512_mul_ps(t2, B16(1.0f / 3628800)));
+        cs = _mm512_add_ps(B16(-1.0f / 720), _mm512_mul_ps(t2, cs));
+        cs = _mm512_add_ps(B16(1.0f / 24), _mm512_mul_ps(t2, cs));
+        cs = _mm512_add_ps(B16(-0.5f), _mm512_mul_ps(t2, cs));
+        cs = _mm512_add_ps(B16(1.0f), _mm512_mul_ps(t2, cs));
+        __m512 v = _mm512_sub_ps(cs, _mm512_mul_ps(qq, ir));
+        if (probe) {
+            __mmask16 keep = in & _mm512_cmp_ps_mask(q2, B16(rrp2), _CMP_LT_OQ);
+            __m512 old = _mm512_loadu_ps(P->vm + k);
+            _mm512_storeu_ps(P->vm + k, _mm512_mask_max_ps(old, keep, v, old));
+        }
+        __mmask16 ok;
+        __m512 w = weight16(P, v, &ok);
+        __mmask16 m = in & ok & _mm512_cmp_ps_mask(qq, zero, _CMP_GT_OQ);
+        if (!m) continue;
+        __m512 sn = _mm512_add_ps(B16(-1.0f / 5040), _mm512_mul_ps(t2, B16(1.0f / 362880)));
+        sn = _mm512_add_ps(B16(1.0f / 120), _mm512_mul_ps(t2, sn));
+        sn = _mm512_add_ps(B16(-1.0f / 6), _mm512_mul_ps(t2, sn));
+        sn = _mm512_add_ps(B16(1.0f), _mm512_mul_ps(t2, sn));
+        sn = _mm512_mul_ps(sg, _mm512_mul_ps(t, sn));
+        __m512 iq = _mm512_div_ps(B16(1.0f), qq);
+        __m512 ox = _mm512_add_ps(_mm512_mul_ps(sn, ux), _mm512_mul_ps(_mm512_sub_ps(wx, _mm512_mul_ps(s, ux)), iq));
+        __m512 oy = _mm512_add_ps(_mm512_mul_ps(sn, uy), _mm512_mul_ps(_mm512_sub_ps(wy, _mm512_mul_ps(s, uy)), iq));
+        __m512 oz = _mm512_add_ps(_mm512_mul_ps(sn, uz), _mm512_mul_ps(_mm512_sub_ps(wz, _mm512_mul_ps(s, uz)), iq));
+        add16(P->ax, k, m, w, ox);
+        add16(P->ay, k, m, w, oy);
+        add16(P->az, k, m, w, oz);
+    })
+}
+__attribute__((target("avx512f"))) static void ball16(const pass *P, const int lo[3], const int hi[3], const float *q)
+{
+    ball16_(P, lo, hi, q, 0);
+}
+__attribute__((target("avx512f"))) static void ball16p(const pass *P, const int lo[3], const int hi[3], const float *q)
+{
+    ball16_(P, lo, hi, q, 1);
+}
+__attribute__((target("avx512f"))) static void link16(const pass *P, const int lo[3], const int hi[3], const float *q,
+                                                      const float *u, float D, float rr2)
+{
+    link16_(P, lo, hi, q, u, D, rr2, 0.0f, 0);
+}
+__attribute__((target("avx512f"))) static void link16p(const pass *P, const int lo[3], const int hi[3],
+                                                       const float *q, const float *u, float D, float rr2, float rrp2)
+{
+    link16_(P, lo, hi, q, u, D, rr2, rrp2, 1);
+}
 __attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3], const int hi[3], const float *q)
 {
     ball8_(P, lo, hi, q, 0);
@@ -288,7 +415,8 @@ static void normal_ball(void *ctx, const int lo[3], const int hi[3], const float
 {
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        ball8(ctx, lo, hi, q);
+        if (wide == 2 && ((const pass *)ctx)->n >= 16) ball16(ctx, lo, hi, q);
+        else ball8(ctx, lo, hi, q);
         return;
     }
 #endif
@@ -298,7 +426,8 @@ static void normal_link(void *ctx, const int lo[3], const int hi[3], const float
 {
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        link8(ctx, lo, hi, q, u, D, rr2);
+        if (wide == 2 && ((const pass *)ctx)->n >= 16) link16(ctx, lo, hi, q, u, D, rr2);
+        else link8(ctx, lo, hi, q, u, D, rr2);
         return;
     }
 #endif
@@ -308,7 +437,8 @@ static void fused_ball(void *ctx, const int lo[3], const int hi[3], const float 
 {
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        ball8p(ctx, lo, hi, q);
+        if (wide == 2 && ((const pass *)ctx)->n >= 16) ball16p(ctx, lo, hi, q);
+        else ball8p(ctx, lo, hi, q);
         return;
     }
 #endif
@@ -321,7 +451,8 @@ static void fused_link(void *ctx, const int lo[3], const int hi[3], const float 
     const float rp = jm_neck_reach(P->r, u[3], P->rn_probe, P->rb_probe);
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        link8p(ctx, lo, hi, q, u, D, rr2, rp * rp);
+        if (wide == 2 && ((const pass *)ctx)->n >= 16) link16p(ctx, lo, hi, q, u, D, rr2, rp * rp);
+        else link8p(ctx, lo, hi, q, u, D, rr2, rp * rp);
         return;
     }
 #endif
