@@ -17,6 +17,10 @@
 
 void jm_mnorm_free(jm_mnorm *m)
 {
+    jm_free(m->mem, m->visit, m->capvisit * sizeof *m->visit);
+    m->visit = NULL;
+    m->nvisit = m->capvisit = 0;
+    m->visits = 0;
     jm_free(m->mem, m->acc, m->cap * PER_VERTEX);
     m->acc = m->sub = NULL;
     m->moved = NULL;
@@ -51,7 +55,32 @@ typedef struct pass {
     float *vm; /* the fused pass (jm_meta_normals_probe): the probe's largest values, or NULL */
     float r, rn_probe, rb_probe; /* the probe's reach of a neck from its axis (jm_neck_reach) */
     int clo[3], chi[3]; /* a pass over a few vertices: the parts that hold any */
+    jm_mnorm *rec;      /* the fused pass: records its visits here, or NULL */
 } pass;
+
+/* the fused pass's visit of a piece, kept for jm_meta_normals_finish (out
+ * of memory: it enumerates the pieces again) */
+static void record(jm_mnorm *m, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
+{
+    if (!m || !m->visits) return;
+    if (m->nvisit == m->capvisit) {
+        size_t nc = m->capvisit ? 2 * m->capvisit : 256;
+        jm_visit *b = jm_realloc(m->mem, m->visit, m->capvisit * sizeof *b, nc * sizeof *b);
+        if (!b) {
+            m->visits = 0;
+            return;
+        }
+        m->visit = b;
+        m->capvisit = nc;
+    }
+    jm_visit *v = &m->visit[m->nvisit++];
+    v->q = q;
+    v->u = u;
+    v->D = D;
+    v->rr2 = rr2;
+    memcpy(v->lo, lo, sizeof v->lo);
+    memcpy(v->hi, hi, sizeof v->hi);
+}
 
 /* The weight of a piece of value v: smoothstep(1 - gap / tau), gap =
  * max(thr - v, 0); 0 (and *ok 0) beyond the band. The SIMD kernels do the
@@ -435,6 +464,7 @@ static void normal_link(void *ctx, const int lo[3], const int hi[3], const float
 }
 static void fused_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
 {
+    record(((const pass *)ctx)->rec, lo, hi, q, NULL, 0.0f, 0.0f);
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
         if (wide == 2 && ((const pass *)ctx)->n >= 16) ball16p(ctx, lo, hi, q);
@@ -447,6 +477,7 @@ static void fused_ball(void *ctx, const int lo[3], const int hi[3], const float 
 static void fused_link(void *ctx, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
 {
     const pass *P = ctx;
+    record(P->rec, lo, hi, q, u, D, rr2);
     /* the probe's reach from the axis (jm_probe_pieces) */
     const float rp = jm_neck_reach(P->r, u[3], P->rn_probe, P->rb_probe);
 #ifdef HAVE_AVX2_NORMALS
@@ -494,7 +525,7 @@ static pass make_pass(const jm_config *c, int B, const float *x, const float *y,
      * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
     const float rb = band_reach(c);
     pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau,
-              1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}};
+              1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}, NULL};
     return P;
 }
 int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
@@ -509,6 +540,9 @@ int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *h
     P.vm = pr->vmax;
     P.rb_probe = rb_probe;
     P.rn_probe = rn_probe;
+    m->nvisit = 0;
+    m->visits = 1;
+    P.rec = m;
     const float reach = band_reach(c);
     const jm_piece_visitor vis = {reach, reach, fused_ball, fused_link, &P};
     jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
@@ -559,9 +593,18 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
         pass P = make_pass(c, B, sx, sy, sz, n2, ps, sacc);
         memcpy(P.clo, clo, sizeof clo);
         memcpy(P.chi, chi, sizeof chi);
-        const float reach = band_reach(c);
-        const jm_piece_visitor vis = {reach, reach, few_ball, few_link, &P};
-        jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+        if (m->visits) {
+            /* the pieces the first pass visited, with the same parts */
+            for (size_t k = 0; k < m->nvisit; k++) {
+                const jm_visit *vi = &m->visit[k];
+                if (vi->u) few_link(&P, vi->lo, vi->hi, vi->q, vi->u, vi->D, vi->rr2);
+                else few_ball(&P, vi->lo, vi->hi, vi->q);
+            }
+        } else {
+            const float reach = band_reach(c);
+            const jm_piece_visitor vis = {reach, reach, few_ball, few_link, &P};
+            jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+        }
         for (size_t j = 0; j < nm; j++) {
             ax[moved[j]] = P.ax[j];
             ay[moved[j]] = P.ay[j];

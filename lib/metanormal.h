@@ -3,6 +3,15 @@
 #define JETMESH_METANORMAL_H
 #include "metaprobe.h"
 
+/* A piece's visit in the first pass, replayed for the moved vertices: the
+ * pieces jm_probe_pieces gives, with their parts, in its order (u NULL: a
+ * ball). */
+typedef struct jm_visit {
+    const float *q, *u;
+    float D, rr2;
+    int lo[3], hi[3];
+} jm_visit;
+
 /* Per-worker scratch of the normals (grown like the probe's). */
 typedef struct jm_mnorm {
     jm_mem *mem;   /* the context's counts (alloc.c); kept by jm_mnorm_free */
@@ -10,6 +19,9 @@ typedef struct jm_mnorm {
     float *acc;    /* 3 * cap: the weighted sums, in the probe's sorted order */
     float *sub;    /* 6 * cap: the moved vertices' points and sums */
     uint32_t *moved; /* cap: their sorted positions */
+    jm_visit *visit; /* the first pass's visits (nvisit of capvisit) */
+    size_t nvisit, capvisit;
+    int visits;    /* 1: visit holds this block's (0: enumerate again) */
 } jm_mnorm;
 void jm_mnorm_free(jm_mnorm *m);
 
@@ -34,9 +46,11 @@ void jm_mnorm_free(jm_mnorm *m);
  * on the way, as it keeps the largest value there; after the settling,
  * jm_meta_normals_finish sums again, in a pass over only them, the
  * vertices that no longer lie at their root (settled, or clamped on their
- * edge), and writes the normals (nrm: nv in block order). A vertex's sum
- * has the same terms in the same order either way, so the bits are those
- * of one pass at the final points. 0 if out of memory. */
+ * edge), replaying the pieces the first pass visited (jm_visit; it
+ * enumerates them again if that list ran out of memory), and writes the
+ * normals (nrm: nv in block order). A vertex's sum has the same terms in
+ * the same order either way, so the bits are those of one pass at the
+ * final points. 0 if out of memory. */
 int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
                           const float *x, const float *y, const float *z, size_t nv, float rb_probe, float rn_probe);
 int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m,
