@@ -611,14 +611,23 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
             az[moved[j]] = P.az[j];
         }
     }
+    /* unit sums in place (a loop the compiler vectorizes: the same
+     * roundings), then into the vertices' places */
+    float *len = m->sub; /* free again: 6 cap floats */
     for (size_t w = 0; w < nv; w++) {
-        float a0 = ax[w], a1 = ay[w], a2 = az[w];
-        float len = sqrtf(a0 * a0 + a1 * a1 + a2 * a2);
-        if (!(len > 0.0f)) continue; /* no piece near: the normal found before */
+        const float a0 = ax[w], a1 = ay[w], a2 = az[w];
+        const float l = sqrtf(a0 * a0 + a1 * a1 + a2 * a2);
+        len[w] = l;
+        ax[w] = a0 / l;
+        ay[w] = a1 / l;
+        az[w] = a2 / l;
+    }
+    for (size_t w = 0; w < nv; w++) {
+        if (!(len[w] > 0.0f)) continue; /* no piece near: the normal found before */
         float *o = &nrm[3 * (size_t)pr->order[w]];
-        o[0] = a0 / len;
-        o[1] = a1 / len;
-        o[2] = a2 / len;
+        o[0] = ax[w];
+        o[1] = ay[w];
+        o[2] = az[w];
     }
     return 1;
 }
