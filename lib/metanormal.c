@@ -177,263 +177,49 @@ static void wide_choose(void)
     if (wide && jm_cpu_avx512()) wide = 2;
 }
 
-/* runs of eight sorted points from each row's start (the last shifted
- * back to end at the array's end); lanes outside [s, e) are masked off,
- * so each vertex gets each piece once */
-#define FOR_RUNS8(P, lo, hi, k, lanes, ...)                                                                \
-    FOR_PART_VERTICES(P, lo, hi, s_, e_, {                                                               \
-        for (size_t r_ = s_; r_ < e_; r_ += 8) {                                                         \
-            const size_t k = r_ + 8 <= (P)->n ? r_ : (P)->n - 8;                                         \
-            const __m256i ix_ = _mm256_add_epi32(_mm256_set1_epi32((int)k), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)); \
-            const __m256 lanes = _mm256_castsi256_ps(_mm256_and_si256(                                   \
-                _mm256_cmpgt_epi32(ix_, _mm256_set1_epi32((int)r_ - 1)),                                 \
-                _mm256_cmpgt_epi32(_mm256_set1_epi32((int)e_), ix_)));                                   \
-            __VA_ARGS__                                                                                  \
-        }                                                                                                \
-    })
-
+/* The kernels in runs of 8 (AVX2) and of 16 (AVX-512, where the pass
+ * has 16 points or more), written once in metanormal_simd.h: each lane does
+ * the plain C's operations, the same bits at both widths. */
+#define VT8 __m256
+#define MT8 __m256
+#define TGT8 "avx2"
+#define PFX8 _mm256
 #define B8(x) _mm256_set1_ps(x)
-__attribute__((target("avx2"))) static inline __m256 weight8(const pass *P, __m256 v, __m256 *ok)
-{
-    __m256 g = _mm256_max_ps(_mm256_sub_ps(B8(P->thr), v), _mm256_setzero_ps());
-    __m256 x = _mm256_sub_ps(B8(1.0f), _mm256_mul_ps(g, B8(P->inv_tau)));
-    *ok = _mm256_cmp_ps(x, _mm256_setzero_ps(), _CMP_GT_OQ);
-    return _mm256_mul_ps(_mm256_mul_ps(x, x), _mm256_sub_ps(B8(3.0f), _mm256_mul_ps(B8(2.0f), x)));
-}
+#define LANES8(k, s, e)                                                                                    \
+    _mm256_castsi256_ps(_mm256_and_si256(                                                                \
+        _mm256_cmpgt_epi32(_mm256_add_epi32(_mm256_set1_epi32((int)(k)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)), \
+                           _mm256_set1_epi32((int)(s) - 1)),                                             \
+        _mm256_cmpgt_epi32(_mm256_set1_epi32((int)(e)),                                                  \
+                           _mm256_add_epi32(_mm256_set1_epi32((int)(k)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)))))
+#define CMP8(a, b, op) _mm256_cmp_ps(a, b, op)
+#define AND8(a, b) _mm256_and_ps(a, b)
+#define ANY8(m) _mm256_movemask_ps(m)
+#define SEL8(m, a, b) _mm256_blendv_ps(a, b, m)
+#define KEEPMAX8(old, m, v) _mm256_blendv_ps(old, _mm256_max_ps(v, old), m)
+#define ADDM8(old, m, x) _mm256_blendv_ps(old, _mm256_add_ps(old, x), m)
+#define W 8
+#include "metanormal_simd.h"
+#undef W
 
-/* acc[k..k+8) += w n where m */
-__attribute__((target("avx2"))) static inline void add8(float *a, size_t k, __m256 m, __m256 w, __m256 n)
-{
-    __m256 old = _mm256_loadu_ps(a + k);
-    _mm256_storeu_ps(a + k, _mm256_blendv_ps(old, _mm256_add_ps(old, _mm256_mul_ps(w, n)), m));
-}
-
-/* probe: the fused pass (P->vm kept too); a constant where inlined */
-__attribute__((target("avx2"), always_inline)) static inline void ball8_(const pass *P, const int lo[3],
-                                                                          const int hi[3], const float *q,
-                                                                          const int probe)
-{
-    const __m256 qx = B8(q[0]), qy = B8(q[1]), qz = B8(q[2]), zero = _mm256_setzero_ps();
-    FOR_RUNS8(P, lo, hi, k, lanes, {
-        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(P->x + k), qx), dy = _mm256_sub_ps(_mm256_loadu_ps(P->y + k), qy);
-        __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(P->z + k), qz);
-        __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
-        __m256 near = _mm256_and_ps(lanes, _mm256_cmp_ps(d2, B8(P->rb2), _CMP_LT_OQ));
-        if (!_mm256_movemask_ps(near)) continue;
-        __m256 d = _mm256_sqrt_ps(d2);
-        __m256 v = _mm256_sub_ps(B8(1.0f), _mm256_mul_ps(d, B8(P->inv_r)));
-        if (probe) {
-            __m256 old = _mm256_loadu_ps(P->vm + k);
-            _mm256_storeu_ps(P->vm + k, _mm256_blendv_ps(old, _mm256_max_ps(v, old), lanes));
-        }
-        __m256 ok;
-        __m256 w = weight8(P, v, &ok);
-        __m256 m = _mm256_and_ps(_mm256_and_ps(ok, near), _mm256_cmp_ps(d, zero, _CMP_GT_OQ));
-        if (!_mm256_movemask_ps(m)) continue;
-        __m256 id = _mm256_div_ps(B8(1.0f), d);
-        add8(P->ax, k, m, w, _mm256_mul_ps(dx, id));
-        add8(P->ay, k, m, w, _mm256_mul_ps(dy, id));
-        add8(P->az, k, m, w, _mm256_mul_ps(dz, id));
-    })
-}
-
-__attribute__((target("avx2"), always_inline)) static inline void link8_(const pass *P, const int lo[3],
-                                                                          const int hi[3], const float *q,
-                                                                          const float *u, float D, float rr2,
-                                                                          float rrp2, const int probe)
-{
-    const __m256 qx = B8(q[0]), qy = B8(q[1]), qz = B8(q[2]), ux = B8(u[0]), uy = B8(u[1]), uz = B8(u[2]);
-    const __m256 dd = B8(D), r2 = B8(rr2), zero = _mm256_setzero_ps(), ir = B8(P->inv_r);
-    FOR_RUNS8(P, lo, hi, k, lanes, {
-        __m256 wx = _mm256_sub_ps(_mm256_loadu_ps(P->x + k), qx), wy = _mm256_sub_ps(_mm256_loadu_ps(P->y + k), qy);
-        __m256 wz = _mm256_sub_ps(_mm256_loadu_ps(P->z + k), qz);
-        __m256 s = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wx, ux), _mm256_mul_ps(wy, uy)), _mm256_mul_ps(wz, uz));
-        __m256 q2 = _mm256_sub_ps(
-            _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(wx, wx), _mm256_mul_ps(wy, wy)), _mm256_mul_ps(wz, wz)),
-            _mm256_mul_ps(s, s));
-        __m256 in = _mm256_and_ps(_mm256_and_ps(_mm256_cmp_ps(s, zero, _CMP_GE_OQ), _mm256_cmp_ps(s, dd, _CMP_LE_OQ)),
-                                  _mm256_cmp_ps(q2, r2, _CMP_LT_OQ));
-        in = _mm256_and_ps(in, lanes);
-        if (!_mm256_movemask_ps(in)) continue;
-        __m256 sm = _mm256_sub_ps(dd, s);
-        __m256 nearer = _mm256_cmp_ps(s, sm, _CMP_LT_OQ);
-        __m256 near = _mm256_blendv_ps(sm, s, nearer);
-        __m256 sg = _mm256_blendv_ps(B8(-1.0f), B8(1.0f), _mm256_cmp_ps(s, sm, _CMP_LE_OQ));
-        __m256 t = _mm256_mul_ps(near, ir), t2 = _mm256_mul_ps(t, t);
-        __m256 qq = _mm256_sqrt_ps(_mm256_max_ps(q2, zero));
-        /* jm_cos_quarter and jm_sin_quarter, term by term */
-        __m256 cs = _mm256_sub_ps(B8(1.0f / 40320), _mm256_mul_ps(t2, B8(1.0f / 3628800)));
-        cs = _mm256_add_ps(B8(-1.0f / 720), _mm256_mul_ps(t2, cs));
-        cs = _mm256_add_ps(B8(1.0f / 24), _mm256_mul_ps(t2, cs));
-        cs = _mm256_add_ps(B8(-0.5f), _mm256_mul_ps(t2, cs));
-        cs = _mm256_add_ps(B8(1.0f), _mm256_mul_ps(t2, cs));
-        __m256 v = _mm256_sub_ps(cs, _mm256_mul_ps(qq, ir));
-        if (probe) {
-            __m256 keep = _mm256_and_ps(in, _mm256_cmp_ps(q2, B8(rrp2), _CMP_LT_OQ));
-            __m256 old = _mm256_loadu_ps(P->vm + k);
-            _mm256_storeu_ps(P->vm + k, _mm256_blendv_ps(old, _mm256_max_ps(v, old), keep));
-        }
-        __m256 ok;
-        __m256 w = weight8(P, v, &ok);
-        __m256 m = _mm256_and_ps(_mm256_and_ps(in, ok), _mm256_cmp_ps(qq, zero, _CMP_GT_OQ));
-        if (!_mm256_movemask_ps(m)) continue;
-        __m256 sn = _mm256_add_ps(B8(-1.0f / 5040), _mm256_mul_ps(t2, B8(1.0f / 362880)));
-        sn = _mm256_add_ps(B8(1.0f / 120), _mm256_mul_ps(t2, sn));
-        sn = _mm256_add_ps(B8(-1.0f / 6), _mm256_mul_ps(t2, sn));
-        sn = _mm256_add_ps(B8(1.0f), _mm256_mul_ps(t2, sn));
-        sn = _mm256_mul_ps(sg, _mm256_mul_ps(t, sn));
-        __m256 iq = _mm256_div_ps(B8(1.0f), qq);
-        __m256 ox = _mm256_add_ps(_mm256_mul_ps(sn, ux), _mm256_mul_ps(_mm256_sub_ps(wx, _mm256_mul_ps(s, ux)), iq));
-        __m256 oy = _mm256_add_ps(_mm256_mul_ps(sn, uy), _mm256_mul_ps(_mm256_sub_ps(wy, _mm256_mul_ps(s, uy)), iq));
-        __m256 oz = _mm256_add_ps(_mm256_mul_ps(sn, uz), _mm256_mul_ps(_mm256_sub_ps(wz, _mm256_mul_ps(s, uz)), iq));
-        add8(P->ax, k, m, w, ox);
-        add8(P->ay, k, m, w, oy);
-        add8(P->az, k, m, w, oz);
-    })
-}
-/* The same kernels in runs of 16 in AVX-512 (where the pass has 16 points
- * or more): each lane does what a lane of ball8_ and link8_ does, the same
- * operations in the same order, so the same bits. */
-#define FOR_RUNS16(P, lo, hi, k, lanes, ...)                                                               \
-    FOR_PART_VERTICES(P, lo, hi, s_, e_, {                                                               \
-        for (size_t r_ = s_; r_ < e_; r_ += 16) {                                                        \
-            const size_t k = r_ + 16 <= (P)->n ? r_ : (P)->n - 16;                                       \
-            const __m512i ix_ = _mm512_add_epi32(_mm512_set1_epi32((int)k),                              \
-                                                 _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)); \
-            const __mmask16 lanes = _mm512_cmpgt_epi32_mask(ix_, _mm512_set1_epi32((int)r_ - 1)) &       \
-                                    _mm512_cmpgt_epi32_mask(_mm512_set1_epi32((int)e_), ix_);            \
-            __VA_ARGS__                                                                                  \
-        }                                                                                                \
-    })
+#define VT16 __m512
+#define MT16 __mmask16
+#define TGT16 "avx512f"
+#define PFX16 _mm512
 #define B16(x) _mm512_set1_ps(x)
-__attribute__((target("avx512f"))) static inline __m512 weight16(const pass *P, __m512 v, __mmask16 *ok)
-{
-    __m512 g = _mm512_max_ps(_mm512_sub_ps(B16(P->thr), v), _mm512_setzero_ps());
-    __m512 x = _mm512_sub_ps(B16(1.0f), _mm512_mul_ps(g, B16(P->inv_tau)));
-    *ok = _mm512_cmp_ps_mask(x, _mm512_setzero_ps(), _CMP_GT_OQ);
-    return _mm512_mul_ps(_mm512_mul_ps(x, x), _mm512_sub_ps(B16(3.0f), _mm512_mul_ps(B16(2.0f), x)));
-}
-__attribute__((target("avx512f"))) static inline void add16(float *a, size_t k, __mmask16 m, __m512 w, __m512 n)
-{
-    __m512 old = _mm512_loadu_ps(a + k);
-    _mm512_storeu_ps(a + k, _mm512_mask_add_ps(old, m, old, _mm512_mul_ps(w, n)));
-}
-__attribute__((target("avx512f"), always_inline)) static inline void ball16_(const pass *P, const int lo[3],
-                                                                              const int hi[3], const float *q,
-                                                                              const int probe)
-{
-    const __m512 qx = B16(q[0]), qy = B16(q[1]), qz = B16(q[2]), zero = _mm512_setzero_ps();
-    FOR_RUNS16(P, lo, hi, k, lanes, {
-        __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(P->x + k), qx), dy = _mm512_sub_ps(_mm512_loadu_ps(P->y + k), qy);
-        __m512 dz = _mm512_sub_ps(_mm512_loadu_ps(P->z + k), qz);
-        __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
-        __mmask16 near = lanes & _mm512_cmp_ps_mask(d2, B16(P->rb2), _CMP_LT_OQ);
-        if (!near) continue;
-        __m512 d = _mm512_sqrt_ps(d2);
-        __m512 v = _mm512_sub_ps(B16(1.0f), _mm512_mul_ps(d, B16(P->inv_r)));
-        if (probe) {
-            __m512 old = _mm512_loadu_ps(P->vm + k);
-            _mm512_storeu_ps(P->vm + k, _mm512_mask_max_ps(old, lanes, v, old));
-        }
-        __mmask16 ok;
-        __m512 w = weight16(P, v, &ok);
-        __mmask16 m = ok & near & _mm512_cmp_ps_mask(d, zero, _CMP_GT_OQ);
-        if (!m) continue;
-        __m512 id = _mm512_div_ps(B16(1.0f), d);
-        add16(P->ax, k, m, w, _mm512_mul_ps(dx, id));
-        add16(P->ay, k, m, w, _mm512_mul_ps(dy, id));
-        add16(P->az, k, m, w, _mm512_mul_ps(dz, id));
-    })
-}
-
-__attribute__((target("avx512f"), always_inline)) static inline void link16_(const pass *P, const int lo[3],
-                                                                              const int hi[3], const float *q,
-                                                                              const float *u, float D, float rr2,
-                                                                              float rrp2, const int probe)
-{
-    const __m512 qx = B16(q[0]), qy = B16(q[1]), qz = B16(q[2]), ux = B16(u[0]), uy = B16(u[1]), uz = B16(u[2]);
-    const __m512 dd = B16(D), r2 = B16(rr2), zero = _mm512_setzero_ps(), ir = B16(P->inv_r);
-    FOR_RUNS16(P, lo, hi, k, lanes, {
-        __m512 wx = _mm512_sub_ps(_mm512_loadu_ps(P->x + k), qx), wy = _mm512_sub_ps(_mm512_loadu_ps(P->y + k), qy);
-        __m512 wz = _mm512_sub_ps(_mm512_loadu_ps(P->z + k), qz);
-        __m512 s = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wx, ux), _mm512_mul_ps(wy, uy)), _mm512_mul_ps(wz, uz));
-        __m512 q2 = _mm512_sub_ps(
-            _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(wx, wx), _mm512_mul_ps(wy, wy)), _mm512_mul_ps(wz, wz)),
-            _mm512_mul_ps(s, s));
-        __mmask16 in = lanes & _mm512_cmp_ps_mask(s, zero, _CMP_GE_OQ) & _mm512_cmp_ps_mask(s, dd, _CMP_LE_OQ) &
-                       _mm512_cmp_ps_mask(q2, r2, _CMP_LT_OQ);
-        if (!in) continue;
-        __m512 sm = _mm512_sub_ps(dd, s);
-        __m512 near = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(s, sm, _CMP_LT_OQ), sm, s);
-        __m512 sg = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(s, sm, _CMP_LE_OQ), B16(-1.0f), B16(1.0f));
-        __m512 t = _mm512_mul_ps(near, ir), t2 = _mm512_mul_ps(t, t);
-        __m512 qq = _mm512_sqrt_ps(_mm512_max_ps(q2, zero));
-        /* jm_cos_quarter and jm_sin_quarter, term by term */
-        __m512 cs = _mm512_sub_ps(B16(1.0f / 40320), _mm512_mul_ps(t2, B16(1.0f / 3628800)));
-        cs = _mm512_add_ps(B16(-1.0f / 720), _mm512_mul_ps(t2, cs));
-        cs = _mm512_add_ps(B16(1.0f / 24), _mm512_mul_ps(t2, cs));
-        cs = _mm512_add_ps(B16(-0.5f), _mm512_mul_ps(t2, cs));
-        cs = _mm512_add_ps(B16(1.0f), _mm512_mul_ps(t2, cs));
-        __m512 v = _mm512_sub_ps(cs, _mm512_mul_ps(qq, ir));
-        if (probe) {
-            __mmask16 keep = in & _mm512_cmp_ps_mask(q2, B16(rrp2), _CMP_LT_OQ);
-            __m512 old = _mm512_loadu_ps(P->vm + k);
-            _mm512_storeu_ps(P->vm + k, _mm512_mask_max_ps(old, keep, v, old));
-        }
-        __mmask16 ok;
-        __m512 w = weight16(P, v, &ok);
-        __mmask16 m = in & ok & _mm512_cmp_ps_mask(qq, zero, _CMP_GT_OQ);
-        if (!m) continue;
-        __m512 sn = _mm512_add_ps(B16(-1.0f / 5040), _mm512_mul_ps(t2, B16(1.0f / 362880)));
-        sn = _mm512_add_ps(B16(1.0f / 120), _mm512_mul_ps(t2, sn));
-        sn = _mm512_add_ps(B16(-1.0f / 6), _mm512_mul_ps(t2, sn));
-        sn = _mm512_add_ps(B16(1.0f), _mm512_mul_ps(t2, sn));
-        sn = _mm512_mul_ps(sg, _mm512_mul_ps(t, sn));
-        __m512 iq = _mm512_div_ps(B16(1.0f), qq);
-        __m512 ox = _mm512_add_ps(_mm512_mul_ps(sn, ux), _mm512_mul_ps(_mm512_sub_ps(wx, _mm512_mul_ps(s, ux)), iq));
-        __m512 oy = _mm512_add_ps(_mm512_mul_ps(sn, uy), _mm512_mul_ps(_mm512_sub_ps(wy, _mm512_mul_ps(s, uy)), iq));
-        __m512 oz = _mm512_add_ps(_mm512_mul_ps(sn, uz), _mm512_mul_ps(_mm512_sub_ps(wz, _mm512_mul_ps(s, uz)), iq));
-        add16(P->ax, k, m, w, ox);
-        add16(P->ay, k, m, w, oy);
-        add16(P->az, k, m, w, oz);
-    })
-}
-__attribute__((target("avx512f"))) static void ball16(const pass *P, const int lo[3], const int hi[3], const float *q)
-{
-    ball16_(P, lo, hi, q, 0);
-}
-__attribute__((target("avx512f"))) static void ball16p(const pass *P, const int lo[3], const int hi[3], const float *q)
-{
-    ball16_(P, lo, hi, q, 1);
-}
-__attribute__((target("avx512f"))) static void link16(const pass *P, const int lo[3], const int hi[3], const float *q,
-                                                      const float *u, float D, float rr2)
-{
-    link16_(P, lo, hi, q, u, D, rr2, 0.0f, 0);
-}
-__attribute__((target("avx512f"))) static void link16p(const pass *P, const int lo[3], const int hi[3],
-                                                       const float *q, const float *u, float D, float rr2, float rrp2)
-{
-    link16_(P, lo, hi, q, u, D, rr2, rrp2, 1);
-}
-__attribute__((target("avx2"))) static void ball8(const pass *P, const int lo[3], const int hi[3], const float *q)
-{
-    ball8_(P, lo, hi, q, 0);
-}
-__attribute__((target("avx2"))) static void ball8p(const pass *P, const int lo[3], const int hi[3], const float *q)
-{
-    ball8_(P, lo, hi, q, 1);
-}
-__attribute__((target("avx2"))) static void link8(const pass *P, const int lo[3], const int hi[3], const float *q,
-                                                    const float *u, float D, float rr2)
-{
-    link8_(P, lo, hi, q, u, D, rr2, 0.0f, 0);
-}
-__attribute__((target("avx2"))) static void link8p(const pass *P, const int lo[3], const int hi[3], const float *q,
-                                                     const float *u, float D, float rr2, float rrp2)
-{
-    link8_(P, lo, hi, q, u, D, rr2, rrp2, 1);
-}
+#define LANES16(k, s, e)                                                                                   \
+    (_mm512_cmpgt_epi32_mask(_mm512_add_epi32(_mm512_set1_epi32((int)(k)), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)), \
+                             _mm512_set1_epi32((int)(s) - 1)) &                                          \
+     _mm512_cmpgt_epi32_mask(_mm512_set1_epi32((int)(e)),                                                \
+                             _mm512_add_epi32(_mm512_set1_epi32((int)(k)), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))))
+#define CMP16(a, b, op) _mm512_cmp_ps_mask(a, b, op)
+#define AND16(a, b) ((__mmask16)((a) & (b)))
+#define ANY16(m) (m)
+#define SEL16(m, a, b) _mm512_mask_blend_ps(m, a, b)
+#define KEEPMAX16(old, m, v) _mm512_mask_max_ps(old, m, v, old)
+#define ADDM16(old, m, x) _mm512_mask_add_ps(old, m, old, x)
+#define W 16
+#include "metanormal_simd.h"
+#undef W
 #endif
 
 
