@@ -236,22 +236,15 @@ jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config
         jm_aniso_free(g, mem);
         return JM_E_OUT_OF_MEMORY;
     }
-    float reach = c->support;
-    for (size_t i = 0; i < g->n; i++) {
-        if (g->isolated[i]) continue;
-        const float *a = AN(g, i), *x = GP(g, i);
-        for (int k = 0; k < 3; k++) {
-            float r = fabsf(a[k] - x[k]) + a[10 + k];
-            if (r > reach) reach = r;
-        }
-    }
-    /* each cell's union of its kernels' boxes, their ends formed as
+    /* the farthest any kernel's box reaches from its particle, and each
+     * cell's union of its kernels' boxes, their ends formed as
      * jm_aniso_candidates forms them */
     g->an_cellbox = jm_alloc(mem, (g->ncells ? g->ncells : 1) * 6 * sizeof(float));
     if (!g->an_cellbox) {
         jm_aniso_free(g, mem);
         return JM_E_OUT_OF_MEMORY;
     }
+    float reach = c->support;
     for (size_t ci = 0; ci < g->ncells; ci++) {
         float *cb = g->an_cellbox + 6 * ci;
         for (int k = 0; k < 3; k++) {
@@ -260,9 +253,11 @@ jm_status jm_aniso_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config
         }
         for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++) {
             if (g->isolated[i]) continue;
-            const float *a = AN(g, i);
+            const float *a = AN(g, i), *x = GP(g, i);
             for (int k = 0; k < 3; k++) {
+                const float r = fabsf(a[k] - x[k]) + a[10 + k];
                 const float l = a[k] - a[10 + k], h = a[k] + a[10 + k];
+                reach = r > reach ? r : reach;
                 cb[k] = l < cb[k] ? l : cb[k];
                 cb[3 + k] = h > cb[3 + k] ? h : cb[3 + k];
             }
