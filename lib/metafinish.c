@@ -1,5 +1,6 @@
 /* metafinish.c - the stitched metasphere mesh's last pass: chord-sag compensation, normals kept facing their triangles. */
 #include "metavertex.h"
+#include "metafinish16.h"
 #include <math.h>
 #include <string.h>
 
@@ -18,7 +19,7 @@
  * behind). Such a vertex's normal is turned toward its triangles until it
  * faces them all (see face_normals), after the sag has moved the vertices. */
 /* a corner faces its triangle above this cosine (see face_normals) */
-#define COS_MIN 0.02f
+#define COS_MIN JM_FINISH_COS_MIN
 /* Per-triangle kernels of the passes over every triangle, with the same
  * float operations in the SSE2 and the plain C versions (the same bits):
  * a point's coordinates in a vector's first three lanes. */
@@ -345,7 +346,19 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
             return 0;
         }
         memset(A, 0, 2 * nv * sizeof(float));
-        for (size_t t = 0; t < nt; t++) {
+        /* 16 triangles a pass where the CPU can (metafinish16.c: the same
+         * bits), their sums added in the same order */
+        const int wide = jm_finish16_ok(nv);
+        size_t t0 = 0;
+        for (; wide && t0 + 16 <= nt; t0 += 16) {
+            float as[16], area[16];
+            jm_finish_sag16(P, N, idx, t0, C, as, area);
+            for (int l = 0; l < 16; l++) {
+                const uint32_t *vi = idx + 3 * (t0 + l);
+                for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as[l], area[l]);
+            }
+        }
+        for (size_t t = t0; t < nt; t++) {
             const uint32_t *vi = idx + 3 * t;
             float len;
             const float sag = tri_sag(P, N, vi, &len, C + 4 * t);
@@ -387,7 +400,36 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
         for (int round = 0, all = 1;; round++) {
             size_t folded = 0, fresh = 0, nh = 0;
             const size_t count = all ? nt : nw;
-            for (size_t j = 0; j < count; j++) {
+            /* a folded triangle's vertices: changed, and flagged once */
+#define FOLDED(v)                                  \
+    do {                                           \
+        for (int k = 0; k < 3; k++) {              \
+            fresh += !changed[(v)[k]];             \
+            changed[(v)[k]] = 1;                   \
+            if (!flag[(v)[k]]) {                   \
+                flag[(v)[k]] = 1;                  \
+                hit[nh++] = (v)[k];                \
+            }                                      \
+        }                                          \
+        folded++;                                  \
+    } while (0)
+            size_t j = 0;
+            /* the first round: 16 triangles a pass where the CPU can
+             * (metafinish16.c: the same bits), then each flagged one in
+             * order as below */
+            for (; round == 0 && wide && j + 16 <= count; j += 16) {
+                const uint32_t m = jm_finish_fold16(P, N, D, idx, j, C, facing);
+                for (uint32_t any = (m | m >> 16) & 0xffffu; any; any &= any - 1) {
+                    const int l = __builtin_ctz(any);
+                    const size_t t = j + (size_t)l;
+                    if (m >> (16 + l) & 1) {
+                        if (na < capw) awl[na++] = (uint32_t)t;
+                        else listed = 0;
+                    }
+                    if (m >> l & 1) FOLDED(idx + 3 * t);
+                }
+            }
+            for (; j < count; j++) {
                 const size_t t = all ? j : watch[j];
                 const uint32_t *v = idx + 3 * t;
                 int f;
@@ -399,17 +441,9 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
                         else listed = 0;
                     }
                 }
-                if (!f) continue;
-                for (int k = 0; k < 3; k++) {
-                    fresh += !changed[v[k]];
-                    changed[v[k]] = 1;
-                    if (!flag[v[k]]) {
-                        flag[v[k]] = 1;
-                        hit[nh++] = v[k];
-                    }
-                }
-                folded++;
+                if (f) FOLDED(v);
             }
+#undef FOLDED
             if (!folded) {
                 /* watch lists every triangle with a changed vertex unless
                  * it overflowed (none changed when the first round ends it) */

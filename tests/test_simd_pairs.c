@@ -1,4 +1,4 @@
-/* test_simd_pairs.c - the AVX-512 paths that take two particles, two vertices or eight matrices per pass give the bits of their one-at-a-time paths. */
+/* test_simd_pairs.c - the AVX-512 paths that take two particles, two vertices, eight matrices or sixteen triangles per pass give the bits of their one-at-a-time paths. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,6 +13,8 @@
 #include "../lib/aniso_moments.h"
 #include "../lib/aniso_normals.h"
 #include "../lib/cpu.h"
+#include "../lib/metafinish16.h"
+#include "../lib/metavertex.h"
 #include "../lib/sym3.h"
 
 static float frand(unsigned *s)
@@ -141,12 +143,71 @@ static void test_normals_pair_bits(void **state)
     }
 }
 
+/* The metasphere finish (jm_meta_finish: chord-sag offsets, fold rounds,
+ * normals turned to face their triangles) with its 16-triangle kernels and
+ * without: a wavy sheet whose normals are tilted at random, some far enough
+ * to fold triangles and to face away from them, in triangle counts that
+ * leave tails of every length; its last vertex in the last triangle (the
+ * masked loads' edge). */
+static void test_finish_sixteen_bits(void **state)
+{
+    (void)state;
+    enum { SIDE = 24, NV = SIDE * SIDE, NT = 2 * (SIDE - 1) * (SIDE - 1) };
+    static float pos[3 * NV], nrm[3 * NV], p1[3 * NV], n1[3 * NV], p2[3 * NV], n2[3 * NV];
+    static uint32_t idx[3 * NT];
+    unsigned s = 11;
+    size_t folds_seen = 0;
+    for (int round = 0; round < 40; round++) {
+        const float tilt = 0.1f + 1.5f * frand(&s);
+        for (int j = 0; j < SIDE; j++)
+            for (int i = 0; i < SIDE; i++) {
+                float *p = pos + 3 * (j * SIDE + i), *n = nrm + 3 * (j * SIDE + i);
+                p[0] = 0.1f * (float)i + 0.02f * frand(&s);
+                p[1] = 0.1f * (float)j + 0.02f * frand(&s);
+                p[2] = 0.05f * sinf(0.7f * (float)i) * cosf(0.5f * (float)j) + 0.01f * frand(&s);
+                n[0] = tilt * (2.0f * frand(&s) - 1.0f);
+                n[1] = tilt * (2.0f * frand(&s) - 1.0f);
+                n[2] = frand(&s) < 0.05f ? -1.0f : 1.0f;
+                const float l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+                for (int a = 0; a < 3; a++) n[a] /= l;
+            }
+        size_t nt = 0;
+        for (int j = 0; j + 1 < SIDE; j++)
+            for (int i = 0; i + 1 < SIDE; i++) {
+                const uint32_t a = (uint32_t)(j * SIDE + i), b = a + 1, c = a + SIDE, d = c + 1;
+                const uint32_t t[6] = {a, b, d, a, d, c};
+                memcpy(idx + 3 * nt, t, sizeof t);
+                nt += 2;
+            }
+        /* a tail of any length: drop some of the first triangles (the last,
+         * with the last vertex, stays) */
+        const size_t drop = (size_t)round % 16, n = nt - drop;
+        const uint32_t *tri = idx + 3 * drop;
+        memcpy(p1, pos, sizeof pos), memcpy(n1, nrm, sizeof nrm);
+        memcpy(p2, pos, sizeof pos), memcpy(n2, nrm, sizeof nrm);
+        const int compensate = round % 4 != 3, facing = round % 4 != 2;
+        jm_finish16_enable(0);
+        assert_int_equal(jm_meta_finish(NULL, p1, n1, NV, tri, n, compensate, facing, 0.03f), 1);
+        jm_finish16_enable(1);
+        assert_int_equal(jm_meta_finish(NULL, p2, n2, NV, tri, n, compensate, facing, 0.03f), 1);
+        if (memcmp(p1, p2, sizeof p1) || memcmp(n1, n2, sizeof n1))
+            fail_msg("round %d (%zu triangles, compensate %d, facing %d): the 16-triangle kernels differ", round, n,
+                     compensate, facing);
+        /* the finish did something: positions moved and normals turned */
+        size_t moved = 0;
+        for (size_t k = 0; k < 3 * NV; k++) moved += p1[k] != pos[k] || n1[k] != nrm[k];
+        folds_seen += moved > 0;
+    }
+    if (folds_seen < 30) fail_msg("the finish changed too few meshes (%zu of 40): the test would prove little", folds_seen);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_eigen_batch_bits),
         cmocka_unit_test(test_moments_pair_bits),
         cmocka_unit_test(test_normals_pair_bits),
+        cmocka_unit_test(test_finish_sixteen_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
