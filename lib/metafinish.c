@@ -348,7 +348,7 @@ int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_
         memset(A, 0, 2 * nv * sizeof(float));
         /* 16 triangles a pass where the CPU can (metafinish16.c: the same
          * bits), their sums added in the same order */
-        const int wide = jm_finish16_ok(nv);
+        const int wide = jm_finish16_ok();
         size_t t0 = 0;
         for (; wide && t0 + 16 <= nt; t0 += 16) {
             float as[16], area[16];

@@ -9,9 +9,11 @@ void jm_finish16_enable(int on) { atomic_store(&enabled, on != 0); }
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 
-int jm_finish16_ok(size_t nv)
+int jm_finish16_ok(void)
 {
-    return atomic_load(&enabled) && jm_cpu_avx512() && nv <= (size_t)(INT32_MAX - 2) / 3;
+    /* the 128-bit masked loads are AVX-512VL (every AVX-512 CPU but the
+     * Xeon Phi has it) */
+    return atomic_load(&enabled) && jm_cpu_avx512() && __builtin_cpu_supports("avx512vl");
 }
 
 /* Four triangles a register, one a 128-bit lane laid out as metafinish.c's
@@ -127,11 +129,7 @@ AVX512 uint32_t jm_finish_fold16(const float *P, const float *N, const float *D,
     return out;
 }
 #else
-int jm_finish16_ok(size_t nv)
-{
-    (void)nv;
-    return 0;
-}
+int jm_finish16_ok(void) { return 0; }
 void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx, size_t t0, float *C, float *as, float *area)
 {
     (void)P, (void)N, (void)idx, (void)t0, (void)C, (void)as, (void)area;

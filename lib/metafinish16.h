@@ -7,10 +7,10 @@
 /* a corner faces its triangle above this cosine (metafinish.c) */
 #define JM_FINISH_COS_MIN 0.02f
 
-/* 1 where the kernels below run: the CPU has AVX-512 (jm_cpu_avx512) and
- * every index 3 v + 2 of nv vertices fits the gathers' 32-bit offsets;
- * then nothing else about them can fail. */
-int jm_finish16_ok(size_t nv);
+/* 1 where the kernels below run: the CPU has AVX-512 with VL
+ * (jm_cpu_avx512 and the 128-bit masked loads) and no test turned them
+ * off; nothing else about them can fail. */
+int jm_finish16_ok(void);
 
 /* Triangles t0 .. t0 + 15 of idx at positions P with unit normals N: as
  * tri_sag in metafinish.c, each triangle's normal (x2 area: (p0 - p2) x
