@@ -220,6 +220,8 @@ static void wide_choose(void)
 #define W 16
 #include "metanormal_simd.h"
 #undef W
+/* 16 lanes where the CPU has AVX-512 and the pass has 16 points or more */
+static inline int use16(const void *ctx) { return wide == 2 && ((const pass *)ctx)->n >= 16; }
 #endif
 
 
@@ -230,7 +232,7 @@ static void normal_ball(void *ctx, const int lo[3], const int hi[3], const float
 {
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        if (wide == 2 && ((const pass *)ctx)->n >= 16) ball16(ctx, lo, hi, q);
+        if (use16(ctx)) ball16(ctx, lo, hi, q);
         else ball8(ctx, lo, hi, q);
         return;
     }
@@ -241,7 +243,7 @@ static void normal_link(void *ctx, const int lo[3], const int hi[3], const float
 {
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        if (wide == 2 && ((const pass *)ctx)->n >= 16) link16(ctx, lo, hi, q, u, D, rr2);
+        if (use16(ctx)) link16(ctx, lo, hi, q, u, D, rr2);
         else link8(ctx, lo, hi, q, u, D, rr2);
         return;
     }
@@ -253,7 +255,7 @@ static void fused_ball(void *ctx, const int lo[3], const int hi[3], const float 
     record(((const pass *)ctx)->rec, lo, hi, q, NULL, 0.0f, 0.0f);
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        if (wide == 2 && ((const pass *)ctx)->n >= 16) ball16p(ctx, lo, hi, q);
+        if (use16(ctx)) ball16p(ctx, lo, hi, q);
         else ball8p(ctx, lo, hi, q);
         return;
     }
@@ -268,7 +270,7 @@ static void fused_link(void *ctx, const int lo[3], const int hi[3], const float 
     const float rp = jm_neck_reach(P->r, u[3], P->rn_probe, P->rb_probe);
 #ifdef HAVE_AVX2_NORMALS
     if (wide) {
-        if (wide == 2 && ((const pass *)ctx)->n >= 16) link16p(ctx, lo, hi, q, u, D, rr2, rp * rp);
+        if (use16(ctx)) link16p(ctx, lo, hi, q, u, D, rr2, rp * rp);
         else link8p(ctx, lo, hi, q, u, D, rr2, rp * rp);
         return;
     }

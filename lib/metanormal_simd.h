@@ -42,6 +42,14 @@ __attribute__((target(MN_CAT(TGT, W)))) static inline void MN_CAT(add, W)(float 
     MN_V old = MN_OP(_loadu_ps)(a + k);
     MN_OP(_storeu_ps)(a + k, MN_CAT(ADDM, W)(old, m, MN_OP(_mul_ps)(w, n)));
 }
+/* the three sums += w (nx, ny, nz) where m */
+__attribute__((target(MN_CAT(TGT, W)))) static inline void MN_CAT(add3, W)(const pass *P, size_t k, MN_M m, MN_V w,
+                                                                         MN_V nx, MN_V ny, MN_V nz)
+{
+    MN_CAT(add, W)(P->ax, k, m, w, nx);
+    MN_CAT(add, W)(P->ay, k, m, w, ny);
+    MN_CAT(add, W)(P->az, k, m, w, nz);
+}
 
 /* probe: the fused pass (P->vm kept too); a constant where inlined */
 __attribute__((target(MN_CAT(TGT, W)), always_inline)) static inline void MN_CAT(ball_w, W)(const pass *P,
@@ -68,9 +76,7 @@ __attribute__((target(MN_CAT(TGT, W)), always_inline)) static inline void MN_CAT
         MN_M m = MN_AND(MN_AND(ok, near), MN_CMP(d, zero, _CMP_GT_OQ));
         if (!MN_ANY(m)) continue;
         MN_V id = MN_OP(_div_ps)(MN_B(1.0f), d);
-        MN_CAT(add, W)(P->ax, k, m, w, MN_OP(_mul_ps)(dx, id));
-        MN_CAT(add, W)(P->ay, k, m, w, MN_OP(_mul_ps)(dy, id));
-        MN_CAT(add, W)(P->az, k, m, w, MN_OP(_mul_ps)(dz, id));
+        MN_CAT(add3, W)(P, k, m, w, MN_OP(_mul_ps)(dx, id), MN_OP(_mul_ps)(dy, id), MN_OP(_mul_ps)(dz, id));
     })
 }
 
@@ -120,9 +126,7 @@ __attribute__((target(MN_CAT(TGT, W)), always_inline)) static inline void MN_CAT
         MN_V ox = MN_OP(_add_ps)(MN_OP(_mul_ps)(sn, ux), MN_OP(_mul_ps)(MN_OP(_sub_ps)(wx, MN_OP(_mul_ps)(s, ux)), iq));
         MN_V oy = MN_OP(_add_ps)(MN_OP(_mul_ps)(sn, uy), MN_OP(_mul_ps)(MN_OP(_sub_ps)(wy, MN_OP(_mul_ps)(s, uy)), iq));
         MN_V oz = MN_OP(_add_ps)(MN_OP(_mul_ps)(sn, uz), MN_OP(_mul_ps)(MN_OP(_sub_ps)(wz, MN_OP(_mul_ps)(s, uz)), iq));
-        MN_CAT(add, W)(P->ax, k, m, w, ox);
-        MN_CAT(add, W)(P->ay, k, m, w, oy);
-        MN_CAT(add, W)(P->az, k, m, w, oz);
+        MN_CAT(add3, W)(P, k, m, w, ox, oy, oz);
     })
 }
 
