@@ -1,18 +1,14 @@
 /* aniso_moments.c - the weighted moments of a particle's neighbourhood for the anisotropic kernels, two particles at a time (AVX-512) or one (C). */
 #include "aniso_moments.h"
 #include "cpu.h"
+#include "internal.h"
 #include <string.h>
 #include <math.h>
 
-/* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
- * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_AM_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#else
-#define JM_AM_CLONES
-#endif
+/* The one-at-a-time loop is built for x86-64-v4 and AVX2 machines and for
+ * any x86-64 (JM_CLONES_V4, internal.h): the same bits. */
 
-JM_AM_CLONES void jm_an_moments(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
+JM_CLONES_V4 void jm_an_moments(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
                                 float R2, float invR, double out[JM_AN_MOMENTS])
 {
     float L[JM_AN_MOMENTS][8];
@@ -43,9 +39,8 @@ JM_AM_CLONES void jm_an_moments(const float *xs, const float *ys, const float *z
     }
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define AM_SIMD 1
+#include "pair16.h"
+#ifdef JM_PAIR16
 /* Lanes 0-7 particle p, lanes 8-15 particle q, each group of 8 candidates
  * in both halves: every lane does what lane l of jm_an_moments does, the
  * same IEEE operations (no FMA) in the same order. */
@@ -54,19 +49,15 @@ __attribute__((target("avx512f"))) static void moments2_avx512(const float *xs, 
                                                               float R2, float invR, double out_p[JM_AN_MOMENTS],
                                                               double out_q[JM_AN_MOMENTS])
 {
-    const __mmask16 hi = 0xFF00;
-    const __m512 px = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[0]), _mm512_set1_ps(q[0]));
-    const __m512 py = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[1]), _mm512_set1_ps(q[1]));
-    const __m512 pz = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[2]), _mm512_set1_ps(q[2]));
+    const __m512 px = jm_pair16_set(p[0], q[0]), py = jm_pair16_set(p[1], q[1]), pz = jm_pair16_set(p[2], q[2]);
     const __m512 vR2 = _mm512_set1_ps(R2), vinv = _mm512_set1_ps(invR), one = _mm512_set1_ps(1.0f);
     const __m512 zero = _mm512_setzero_ps();
     __m512 L0 = zero, L1 = zero, L2 = zero, L3 = zero, L4 = zero, L5 = zero, L6 = zero, L7 = zero, L8 = zero;
     __m512 L9 = zero, L10 = zero;
-#define AM_LOAD2(a) _mm512_castpd_ps(_mm512_broadcast_f64x4(_mm256_castps_pd(_mm256_loadu_ps(a))))
     for (size_t b = 0; b < groups; b++) {
-        const __m512 ex = _mm512_sub_ps(AM_LOAD2(xs + 8 * b), px);
-        const __m512 ey = _mm512_sub_ps(AM_LOAD2(ys + 8 * b), py);
-        const __m512 ez = _mm512_sub_ps(AM_LOAD2(zs + 8 * b), pz);
+        const __m512 ex = _mm512_sub_ps(jm_pair16_load8(xs + 8 * b), px);
+        const __m512 ey = _mm512_sub_ps(jm_pair16_load8(ys + 8 * b), py);
+        const __m512 ez = _mm512_sub_ps(jm_pair16_load8(zs + 8 * b), pz);
         const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(ex, ex), _mm512_mul_ps(ey, ey)), _mm512_mul_ps(ez, ez));
         const __m512 u = _mm512_mul_ps(_mm512_sqrt_ps(d2), vinv);
         const __mmask16 in = _mm512_cmp_ps_mask(d2, vR2, _CMP_LT_OQ);
@@ -85,7 +76,6 @@ __attribute__((target("avx512f"))) static void moments2_avx512(const float *xs, 
         const __mmask16 nb = _mm512_mask_cmp_ps_mask(in, d2, zero, _CMP_GT_OQ);
         L10 = _mm512_add_ps(L10, _mm512_maskz_mov_ps(nb, one));
     }
-#undef AM_LOAD2
     float s[JM_AN_MOMENTS][16];
     _mm512_storeu_ps(s[0], L0);
     _mm512_storeu_ps(s[1], L1);
@@ -111,7 +101,7 @@ __attribute__((target("avx512f"))) static void moments2_avx512(const float *xs, 
 void jm_an_moments2(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
                     const float q[3], float R2, float invR, double out_p[JM_AN_MOMENTS], double out_q[JM_AN_MOMENTS])
 {
-#ifdef AM_SIMD
+#ifdef JM_PAIR16
     if (jm_cpu_avx512()) {
         moments2_avx512(xs, ys, zs, groups, p, q, R2, invR, out_p, out_q);
         return;

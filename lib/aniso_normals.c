@@ -3,15 +3,10 @@
 #include "cpu.h"
 #include <math.h>
 
-/* Built for AVX2 machines and for any x86-64, chosen at load time; no FMA
- * contraction (-std=c11 implies -ffp-contract=off), so both give the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_AN_CLONES __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#else
-#define JM_AN_CLONES
-#endif
+/* The one-at-a-time loop is built for x86-64-v4 and AVX2 machines and for
+ * any x86-64 (JM_CLONES_V4, internal.h): the same bits. */
 
-JM_AN_CLONES int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3])
+JM_CLONES_V4 int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3])
 {
     /* grad phi = sum amp w'(q) / q M d, with q = sqrt(d^T M d); 8 lanes
      * summed in a fixed order */
@@ -37,30 +32,26 @@ JM_AN_CLONES int jm_aniso_normal(const jm_an_list *l, const float p[3], float nr
     return jm_normal_from_lanes8(gx, gy, gz, nrm);
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define AN_SIMD 1
+#include "pair16.h"
+#ifdef JM_PAIR16
 /* Lanes 0-7 vertex p, lanes 8-15 vertex q, each group of 8 kernels in both
  * halves: every lane does what lane t of jm_aniso_normal does, the same
  * IEEE operations (no FMA) in the same order. */
 __attribute__((target("avx512f"))) static void normal2_avx512(const jm_an_list *l, const float p[3],
                                                              const float q[3], float np[3], float nq[3])
 {
-    const __mmask16 hi = 0xFF00;
-    const __m512 px = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[0]), _mm512_set1_ps(q[0]));
-    const __m512 py = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[1]), _mm512_set1_ps(q[1]));
-    const __m512 pz = _mm512_mask_blend_ps(hi, _mm512_set1_ps(p[2]), _mm512_set1_ps(q[2]));
+    const __m512 px = jm_pair16_set(p[0], q[0]), py = jm_pair16_set(p[1], q[1]), pz = jm_pair16_set(p[2], q[2]);
     const __m512 zero = _mm512_setzero_ps(), four = _mm512_set1_ps(4.0f), two = _mm512_set1_ps(2.0f);
     const __m512 one = _mm512_set1_ps(1.0f), c075 = _mm512_set1_ps(-0.75f), c3 = _mm512_set1_ps(3.0f);
     __m512 gx = zero, gy = zero, gz = zero;
     const size_t groups = (l->n + 7) / 8;
-#define LD2(a) _mm512_castpd_ps(_mm512_broadcast_f64x4(_mm256_castps_pd(_mm256_loadu_ps(a))))
     for (size_t gi = 0; gi < groups; gi++) {
         const float *b = l->buf + JM_AN_GROUP * gi;
-        const __m512 d0 = _mm512_sub_ps(px, LD2(b)), d1 = _mm512_sub_ps(py, LD2(b + 8));
-        const __m512 d2 = _mm512_sub_ps(pz, LD2(b + 16));
-        const __m512 m00 = LD2(b + 24), m01 = LD2(b + 32), m02 = LD2(b + 40), m11 = LD2(b + 48);
-        const __m512 m12 = LD2(b + 56), m22 = LD2(b + 64), amp = LD2(b + 72);
+        const __m512 d0 = _mm512_sub_ps(px, jm_pair16_load8(b)), d1 = _mm512_sub_ps(py, jm_pair16_load8(b + 8));
+        const __m512 d2 = _mm512_sub_ps(pz, jm_pair16_load8(b + 16));
+        const __m512 m00 = jm_pair16_load8(b + 24), m01 = jm_pair16_load8(b + 32), m02 = jm_pair16_load8(b + 40);
+        const __m512 m11 = jm_pair16_load8(b + 48), m12 = jm_pair16_load8(b + 56), m22 = jm_pair16_load8(b + 64);
+        const __m512 amp = jm_pair16_load8(b + 72);
         const __m512 md0 =
             _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(m00, d0), _mm512_mul_ps(m01, d1)), _mm512_mul_ps(m02, d2));
         const __m512 md1 =
@@ -80,7 +71,6 @@ __attribute__((target("avx512f"))) static void normal2_avx512(const jm_an_list *
         gy = _mm512_add_ps(gy, _mm512_mul_ps(k, md1));
         gz = _mm512_add_ps(gz, _mm512_mul_ps(k, md2));
     }
-#undef LD2
     float sx[16], sy[16], sz[16];
     _mm512_storeu_ps(sx, gx);
     _mm512_storeu_ps(sy, gy);
@@ -93,7 +83,7 @@ __attribute__((target("avx512f"))) static void normal2_avx512(const jm_an_list *
 void jm_aniso_normals(const jm_an_list *l, const uint32_t *idx, size_t count, const float *pos, float *nrm)
 {
     size_t k = 0;
-#ifdef AN_SIMD
+#ifdef JM_PAIR16
     if (jm_cpu_avx512())
         for (; k + 1 < count; k += 2)
             normal2_avx512(l, &pos[3 * (size_t)idx[k]], &pos[3 * (size_t)idx[k + 1]], &nrm[3 * (size_t)idx[k]],

@@ -289,13 +289,13 @@ int jm_aniso_candidates(const jm_grid *g, const jm_hood *hood, const float lo[3]
                 const uint32_t ci = jm_grid_cell(g, hood->c0[0] + cx, hood->c0[1] + cy, hood->c0[2] + cz);
                 const float *cb = g->an_cellbox + 6 * (size_t)ci;
                 if (cb[3] < x0 || cb[0] > x1 || cb[4] < y0 || cb[1] > y1 || cb[5] < z0 || cb[2] > z1) continue;
-        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
-            const float *a = AN(g, p);
-            if (a[0] + a[10] < x0 || a[0] - a[10] > x1 || a[1] + a[11] < y0 || a[1] - a[11] > y1 || a[2] + a[12] < z0 ||
-                a[2] - a[12] > z1 || g->isolated[p])
-                continue;
-            out->idx[m++] = p;
-        }
+                for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+                    const float *a = AN(g, p);
+                    if (a[0] + a[10] < x0 || a[0] - a[10] > x1 || a[1] + a[11] < y0 || a[1] - a[11] > y1 ||
+                        a[2] + a[12] < z0 || a[2] - a[12] > z1 || g->isolated[p])
+                        continue;
+                    out->idx[m++] = p;
+                }
             }
     out->n = m;
     return 1;

@@ -48,14 +48,8 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
     return 1;
 }
 
-/* The splatting loops are built twice, for AVX2 machines and for any x86-64,
- * chosen at load time. No FMA contraction (-std=c11 implies
- * -ffp-contract=off), so both give the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define JM_CLONES
-#endif
+/* The splatting loops are built twice, for AVX2 machines and for any x86-64
+ * (JM_CLONES_AVX2, internal.h): the same bits. */
 
 /* Both pieces are splatted in runs of 4 nodes from the start of their span
  * (the last run shifted back to end at the row's end; n >= 9): a node past
@@ -146,7 +140,7 @@ static inline void neck_run(float *row, uint32_t *wrow, const float *x, float qx
 }
 #endif
 
-JM_CLONES static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
+JM_CLONES_AVX2 static void sample_meta(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
                         const float *y, const float *z, int n, float *f, uint32_t *win)
 {
     const uint32_t np = (uint32_t)g->n;

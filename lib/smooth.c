@@ -48,8 +48,8 @@
  * instructions, fewer register copies; the weights' 8 lanes one vector),
  * chosen at run time: the same operations, no FMA in ISO C mode, the same
  * bits. JM_SMOOTH_PLAIN builds the plain code only (tests compare them). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES) && !defined(JM_SMOOTH_PLAIN)
-#define JM_SM_CLONES __attribute__((target_clones("avx2", "default")))
+#ifndef JM_SMOOTH_PLAIN
+#define JM_SM_CLONES JM_CLONES_AVX2
 #else
 #define JM_SM_CLONES
 #endif

@@ -6,14 +6,8 @@
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
-/* The normal loop is built twice, for AVX2 machines and for any x86-64,
- * chosen at load time. No FMA contraction (-std=c11 implies
- * -ffp-contract=off), so both give the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define JM_CLONES
-#endif
+/* The normal loop is built twice, for AVX2 machines and for any x86-64
+ * (JM_CLONES_AVX2, internal.h): the same bits. */
 
 /* The hood's cells (their index range along axis a, from 0) that can hold
  * a particle within [lo - R, hi + R]: a particle at x lies in the grid's
@@ -74,7 +68,7 @@ void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
 
 /* Outward normal from the gathered particles: groups of 8 (x8, y8, z8, w8),
  * eight lanes summed in a fixed order, so SSE and AVX builds agree. */
-JM_CLONES int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3])
+JM_CLONES_AVX2 int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3])
 {
     const float R2 = c->support * c->support, inv = 1.0f / c->sph_h;
     float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
