@@ -1,4 +1,4 @@
-/* grow.c - arrays that grow across a frame: their own mappings grown by mremap on Linux (pages moved, not copied), realloc elsewhere. */
+/* grow.c - arrays that grow across a frame: their own mappings (huge pages advised) grown by mremap on Linux (pages moved, not copied), realloc elsewhere. */
 #if defined(__linux__)
 #define _GNU_SOURCE
 #include <sys/mman.h>
@@ -15,6 +15,15 @@ static int mapped(size_t bytes) { (void)bytes; return 0; }
 
 int jm_grow_moves(size_t bytes) { return mapped(bytes); }
 
+#if defined(__linux__) && defined(MREMAP_MAYMOVE)
+/* A mapping spans whole 2 MiB pages and is advised huge (jm_huge_advise):
+ * the first touch of its pages faults once per 2 MiB instead of once per
+ * 4 KiB, and growing moves whole huge pages. Only the bytes asked for are
+ * counted. */
+#define HUGE ((size_t)2 << 20)
+static size_t span(size_t bytes) { return (bytes + HUGE - 1) & ~(HUGE - 1); }
+#endif
+
 void *jm_grow(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
 {
     if (new_bytes == 0) new_bytes = 1;
@@ -25,11 +34,13 @@ void *jm_grow(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
     void *q = NULL;
 #if defined(__linux__) && defined(MREMAP_MAYMOVE)
     if (mapped(old_bytes) && mapped(new_bytes)) {
-        q = mremap(p, old_bytes, new_bytes, MREMAP_MAYMOVE);
+        q = span(old_bytes) == span(new_bytes) ? p : mremap(p, span(old_bytes), span(new_bytes), MREMAP_MAYMOVE);
         if (q == MAP_FAILED) q = NULL;
+        if (q && q != p) jm_huge_advise(q, span(new_bytes));
     } else if (mapped(new_bytes)) { /* from the heap into a mapping */
-        q = mmap(NULL, new_bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        q = mmap(NULL, span(new_bytes), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (q == MAP_FAILED) q = NULL;
+        if (q) jm_huge_advise(q, span(new_bytes));
         if (q && p) {
             memcpy(q, p, old_bytes);
             free(p);
@@ -38,7 +49,7 @@ void *jm_grow(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
         q = malloc(new_bytes);
         if (q) {
             memcpy(q, p, new_bytes);
-            munmap(p, old_bytes);
+            munmap(p, span(old_bytes));
         }
     }
 #endif
@@ -56,7 +67,7 @@ void jm_grow_free(jm_mem *m, void *p, size_t bytes)
     if (bytes == 0) bytes = 1;
 #if defined(__linux__) && defined(MREMAP_MAYMOVE)
     if (mapped(bytes)) {
-        munmap(p, bytes);
+        munmap(p, span(bytes));
         if (m) jm_mem_sub(m, bytes);
         return;
     }
