@@ -6,6 +6,9 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
@@ -234,21 +237,194 @@ static void meta_fill(void *arg, size_t ci, int worker)
     meta_links(arg, ci, 1);
 }
 
+
+/* ---- the SPH grid in key order, released behind the block sweep */
+static atomic_int mode_key = 1, mode_release = 1;
+static _Atomic size_t mode_page; /* 0: REL_PAGE */
+void jm_grid_test_mode(int key_order, int release, size_t page)
+{
+    atomic_store(&mode_key, key_order != 0);
+    atomic_store(&mode_release, release);
+    atomic_store(&mode_page, page);
+}
+
+/* Released in whole 2 MiB pages: the arrays of a grid that may be released
+ * are advised huge (jm_huge_advise), so that the next frame, which takes
+ * the same memory again, faults it back once per 2 MiB, not per 4 KiB */
+#define REL_PAGE ((uintptr_t)2 << 20)
+
+static void *releasable(const jm_grid *g, void *p, size_t bytes)
+{
+    if (g->first_rank) jm_huge_advise(p, bytes);
+    return p;
+}
+
+typedef struct {
+    uint64_t key;
+    uint32_t id;
+} key_id;
+
+static int cmp_key_id(const void *a, const void *b)
+{
+    uint64_t x = ((const key_id *)a)->key, y = ((const key_id *)b)->key;
+    return x < y ? -1 : x > y;
+}
+
+/* Renumbers the cells of the first pass (count: 4 entries a cell, the count
+ * then the absolute coordinates; numbered by first appearance) in key
+ * order, z slowest: the dense index or the map's values, pcell (map only)
+ * and count follow; g->first_rank keeps each cell's old number and
+ * g->slab_first where each z begins. */
+static jm_status key_order(jm_grid *g, jm_mem *mem, uint32_t **count, size_t *count_cap, size_t ncells,
+                           uint32_t *pcell, size_t n)
+{
+    uint32_t *rank = jm_alloc(mem, ncells * sizeof *rank); /* new number -> old */
+    if (!rank) return JM_E_OUT_OF_MEMORY;
+    uint32_t next = 0;
+    if (g->dense) { /* z, y, x: the index is laid out in key order */
+        const size_t box = (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]);
+        for (size_t i = 0; i < box; i++)
+            if (g->dense[i] != UINT32_MAX) {
+                rank[next] = g->dense[i];
+                g->dense[i] = next++;
+            }
+    } else {
+        key_id *k = jm_alloc(mem, ncells * sizeof *k);
+        if (!k) { jm_free(mem, rank, ncells * sizeof *rank); return JM_E_OUT_OF_MEMORY; }
+        for (size_t i = 0; i < ncells; i++) {
+            const uint32_t *e = *count + 4 * i;
+            k[i].key = jm_key3((int64_t)(int32_t)e[1] - g->origin[0], (int64_t)(int32_t)e[2] - g->origin[1],
+                               (int64_t)(int32_t)e[3] - g->origin[2]);
+            k[i].id = (uint32_t)i;
+        }
+        qsort(k, ncells, sizeof *k, cmp_key_id); /* keys are distinct */
+        uint32_t *to = (uint32_t *)k; /* old number -> new, in place of the pairs' first half */
+        for (size_t i = 0; i < ncells; i++) rank[i] = k[i].id;
+        for (size_t i = 0; i < ncells; i++) to[rank[i]] = (uint32_t)i;
+        for (size_t s = 0; s < g->cells.cap; s++)
+            if (g->cells.keys[s] != JM_HASH_EMPTY) g->cells.vals[s] = to[g->cells.vals[s]];
+        for (size_t i = 0; i < n; i++) pcell[i] = to[pcell[i]];
+        jm_free(mem, k, ncells * sizeof *k);
+    }
+    uint32_t *c2 = jm_alloc(mem, 4 * ncells * sizeof *c2);
+    if (!c2) { jm_free(mem, rank, ncells * sizeof *rank); return JM_E_OUT_OF_MEMORY; }
+    for (size_t i = 0; i < ncells; i++) memcpy(c2 + 4 * i, *count + 4 * (size_t)rank[i], 4 * sizeof *c2);
+    jm_free(mem, *count, *count_cap * 4 * sizeof **count);
+    *count = c2;
+    *count_cap = ncells;
+    g->first_rank = rank;
+    if (g->dense) releasable(g, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense);
+    /* each cell z's first cell */
+    const int64_t z0 = (int32_t)c2[3], z1 = (int32_t)c2[4 * (ncells - 1) + 3];
+    g->slab_z0 = z0;
+    g->slab_n = (size_t)(z1 - z0 + 1);
+    g->slab_first = jm_alloc(mem, (g->slab_n + 1) * sizeof *g->slab_first);
+    if (!g->slab_first) return JM_E_OUT_OF_MEMORY;
+    size_t ci = 0;
+    for (size_t j = 0; j <= g->slab_n; j++) {
+        while (ci < ncells && (int64_t)(int32_t)c2[4 * ci + 3] < z0 + (int64_t)j) ci++;
+        g->slab_first[j] = (uint32_t)ci;
+    }
+    return JM_OK;
+}
+
+/* The whole pages of [base, base + prefix) from the first not yet released
+ * (*rel bytes from the first whole page) on: returned to the system and no
+ * longer counted. */
+static void release_prefix(jm_mem *mem, void *base, size_t prefix, size_t *rel)
+{
+    if (!base) return;
+    const uintptr_t ps = atomic_load(&mode_page) ? atomic_load(&mode_page) : REL_PAGE;
+    const uintptr_t a = ((uintptr_t)base + ps - 1) & ~(ps - 1), e = ((uintptr_t)base + prefix) & ~(ps - 1);
+    if (e <= a + *rel) return;
+    void *from = (void *)(a + *rel);
+    const size_t len = e - a - *rel;
+#if defined(__linux__)
+    madvise(from, len, MADV_DONTNEED);
+    if (atomic_load(&mode_release) == 2) mprotect(from, len, PROT_NONE);
+#endif
+    jm_mem_sub(mem, len);
+    *rel = e - a;
+}
+
+/* Frees an array of `bytes` (as counted when taken) of which rel were released. */
+static void free_released(jm_mem *mem, void *p, size_t bytes, size_t rel)
+{
+    if (!p) return;
+#if defined(__linux__)
+    if (rel && atomic_load(&mode_release) == 2) {
+        const uintptr_t ps = atomic_load(&mode_page) ? atomic_load(&mode_page) : REL_PAGE;
+        mprotect((void *)(((uintptr_t)p + ps - 1) & ~(ps - 1)), rel, PROT_READ | PROT_WRITE);
+    }
+#endif
+    jm_free(NULL, p, bytes);
+    jm_mem_sub(mem, (bytes ? bytes : 1) - rel);
+}
+
+void jm_grid_release_below(jm_grid *g, jm_mem *mem, int64_t cz)
+{
+    if (!g->slab_first || !g->cell_start || atomic_load(&mode_release) == 0 || cz <= g->slab_z0) return;
+    const size_t j = (uint64_t)(cz - g->slab_z0) > g->slab_n ? g->slab_n : (size_t)(cz - g->slab_z0);
+    const uint32_t cells = g->slab_first[j];
+    if (cells <= g->rel_cells) return;
+    g->rel_cells = cells;
+    const size_t parts = g->cell_start[cells];
+    release_prefix(mem, g->pos, 3 * parts * sizeof(float), &g->rel[0]);
+    release_prefix(mem, g->weight, parts * sizeof(float), &g->rel[1]);
+    release_prefix(mem, g->isolated, parts, &g->rel[2]);
+    release_prefix(mem, g->cell_start, cells * sizeof(uint32_t), &g->rel[3]);
+    if (g->dense && cz > g->dense_lo[2]) {
+        int64_t dz = cz - g->dense_lo[2];
+        if (dz > g->dense_n[2]) dz = g->dense_n[2];
+        release_prefix(mem, g->dense, (size_t)(dz * g->dense_n[0] * g->dense_n[1]) * sizeof *g->dense, &g->rel[4]);
+    }
+}
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+int jm_grid_isolated(const jm_grid *g, jm_mem *mem, uint32_t *out)
+{
+    size_t k = 0;
+    if (!g->first_rank) {
+        for (size_t i = 0; i < g->n; i++)
+            if (g->isolated[i]) out[k++] = (uint32_t)i;
+        return 1;
+    }
+    /* (first appearance of the cell, sorted index), sorted: the particles of
+     * one cell are in input order in both numberings */
+    const size_t bytes = (g->n_isolated ? g->n_isolated : 1) * sizeof(uint64_t);
+    uint64_t *pair = jm_alloc(mem, bytes);
+    if (!pair) return 0;
+    for (size_t ci = 0; ci < g->ncells; ci++)
+        for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++)
+            if (g->isolated[i]) pair[k++] = (uint64_t)g->first_rank[ci] << 32 | i;
+    qsort(pair, k, sizeof *pair, cmp_u64);
+    for (size_t i = 0; i < k; i++) out[i] = (uint32_t)pair[i];
+    jm_free(mem, pair, bytes);
+    return 1;
+}
+
 void jm_grid_free(jm_grid *g, jm_mem *mem)
 {
     size_t n = g->n;
-    jm_free(mem, g->pos, 3 * n * sizeof(float));
-    jm_free(mem, g->weight, n * sizeof(float));
+    free_released(mem, g->pos, 3 * n * sizeof(float), g->rel[0]);
+    free_released(mem, g->weight, n * sizeof(float), g->rel[1]);
     jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
     jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
     jm_free(mem, g->nb_owner, g->nb_count * sizeof(uint32_t));
     jm_free(mem, g->nb_dir, g->nb_count * 4 * sizeof(float));
-    jm_free(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t));
+    free_released(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t), g->rel[3]);
     jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
-    jm_free(mem, g->isolated, n);
+    free_released(mem, g->isolated, n, g->rel[2]);
     jm_aniso_free(g, mem);
     if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
-    jm_free(mem, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense);
+    free_released(mem, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense, g->rel[4]);
+    jm_free(mem, g->first_rank, g->ncells * sizeof *g->first_rank);
+    jm_free(mem, g->slab_first, (g->slab_n + 1) * sizeof *g->slab_first);
     memset(g, 0, sizeof *g);
 }
 
@@ -387,10 +563,21 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         if (pcell) pcell[k] = *v;
     }
     g->ncells = ncells;
-    g->cell_start = jm_alloc(mem, (ncells + 1) * sizeof *g->cell_start);
+    /* SPH: the cells in key order (z slowest), so that the particles lie in
+     * memory slab by slab, as the blocks are swept, and the sweep can give
+     * them back behind it (jm_grid_release_below). Every sum over particles
+     * enumerates cells by their coordinates and a cell's particles in input
+     * order, so the numbering changes no value; the isolated particles keep
+     * the input's order through first_rank (jm_grid_isolated). */
+    if (c->field == JM_FIELD_SPH && ncells && atomic_load(&mode_key)) {
+        st = key_order(g, mem, &count, &count_cap, ncells, pcell, n);
+        if (st != JM_OK) goto fail;
+    }
+    const size_t start_bytes = (ncells + 1) * sizeof *g->cell_start, pos_bytes = (n ? 3 * n : 1) * sizeof(float);
+    g->cell_start = releasable(g, jm_alloc(mem, start_bytes), start_bytes);
     g->cell_coord = jm_alloc(mem, (ncells ? 3 * ncells : 1) * sizeof *g->cell_coord);
-    g->pos = jm_alloc(mem, (n ? 3 * n : 1) * sizeof(float));
-    g->isolated = jm_calloc(mem, n ? n : 1, 1);
+    g->pos = releasable(g, jm_alloc(mem, pos_bytes), pos_bytes);
+    g->isolated = releasable(g, jm_calloc(mem, n ? n : 1, 1), n ? n : 1);
     if (!g->cell_start || !g->cell_coord || !g->pos || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     uint32_t acc = 0;
     for (size_t ci = 0; ci < ncells; ci++) {
@@ -445,7 +632,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     job.iso2 = iso * iso;
     job.range = (int)ceilf(iso / c->cell);
     if (c->field == JM_FIELD_SPH) {
-        g->weight = jm_alloc(mem, (n ? n : 1) * sizeof(float));
+        g->weight = releasable(g, jm_alloc(mem, (n ? n : 1) * sizeof(float)), (n ? n : 1) * sizeof(float));
         if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         int nt = jm_pool_threads(pool);
         job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);

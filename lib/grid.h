@@ -11,6 +11,24 @@ void jm_grid_free(jm_grid *g, jm_mem *mem);
  * of the grid, the kernels and the blocks read: the field and the later
  * stages find cells by their coordinates, never the reverse. */
 void jm_grid_drop_coords(jm_grid *g, jm_mem *mem);
+/* SPH grids (cells in key order): gives back the memory of the particles
+ * of every cell whose z coordinate is below cz, and of those cells' index
+ * entries: nothing may read them afterwards (the block sweep, which runs in
+ * z order, calls it behind itself). Pages whole inside the released ranges
+ * go back to the system and out of the count; the grid is freed as usual.
+ * Any other grid: nothing. */
+void jm_grid_release_below(jm_grid *g, jm_mem *mem, int64_t cz);
+/* The isolated particles' sorted indices (g->n_isolated of them) in the
+ * order of their cells' first appearance, then of the sorted order: the
+ * same particles in the same order whichever way the cells are numbered. */
+int jm_grid_isolated(const jm_grid *g, jm_mem *mem, uint32_t *out); /* 0: out of memory */
+/* Tests only (tests/test_grid_release.c): key_order 0 numbers an SPH grid's
+ * cells by first appearance (no release possible); release 0 turns release
+ * off, 2 makes released pages unreadable (a read faults) until the grid is
+ * freed; page, a power of two and a multiple of the system's page, is the
+ * unit released (0: 2 MiB). Defaults: 1, 1, 0. Not thread-safe against
+ * frames in flight: set it between frames. */
+void jm_grid_test_mode(int key_order, int release, size_t page);
 /* Cell index of absolute cell coordinates, or UINT32_MAX if empty/out of range. */
 static inline uint32_t jm_grid_cell(const jm_grid *g, int64_t x, int64_t y, int64_t z)
 {

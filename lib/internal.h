@@ -205,6 +205,17 @@ typedef struct jm_grid {
                              x fastest, instead of the map cells */
     int64_t dense_lo[3];  /* absolute coordinates of its first cell */
     int64_t dense_n[3];   /* its cells per axis */
+    /* sph: the cells numbered in key order (z slowest), so that the block
+     * sweep can release the particles behind it (jm_grid_release_below) */
+    uint32_t *first_rank; /* per cell: its number in order of first
+                             appearance (the isolated particles' order) */
+    uint32_t *slab_first; /* slab_n + 1 entries: the first cell of each cell
+                             z from slab_z0 on (the last: ncells) */
+    int64_t slab_z0;
+    size_t slab_n;
+    uint32_t rel_cells;   /* cells released so far (a prefix) */
+    size_t rel[5];        /* bytes released of pos, weight, isolated,
+                             cell_start, dense (no longer counted) */
 } jm_grid;
 
 

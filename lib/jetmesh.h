@@ -392,7 +392,9 @@ typedef struct jm_particles {
 
 /**
  * A mesh. Arrays are owned by the context and stay valid until the next
- * jm_mesh_particles() on the same context or jm_context_free().
+ * jm_mesh_particles() on the same context or jm_context_free() (the next
+ * call gives them back before it starts, so that a frame's peak never
+ * holds the last frame's mesh).
  */
 typedef struct jm_mesh {
     const float *positions;  /**< 3 floats per vertex */
@@ -423,7 +425,11 @@ typedef struct jm_stats {
                                max_bytes: the total it needed, if more) */
     size_t peak_bytes;    /**< peak of the context's own heap during the call
                                (mesh, scratch and meshoptimizer's scratch
-                               included) */
+                               included). Isotropic SPH without
+                               post-processing gives the particles back
+                               behind the sweep of the blocks, which runs
+                               in z: the peak holds the mesh and a band
+                               of the particles, not all of them */
     int threads;          /**< worker threads used */
     size_t cavities_removed; /**< sub-particle cavities removed (see
                                   jm_params.keep_cavities) */

@@ -145,12 +145,13 @@ void jm_context_free(jm_context *ctx)
 
 /* ---- output arrays */
 /* The next capacity of a mesh array of cap elements of elem bytes that
- * must hold need: by half where growing copies the array; by an eighth
- * where it moves pages (grow.h), so that the arrays at the end of the
- * blocks (the frame's peak) hold at most an eighth more than the mesh. */
+ * must hold need: by half where growing copies the array; exactly need
+ * where it moves pages (grow.h: whole 2 MiB spans, so most steps make no
+ * call), so that the arrays at the end of the blocks (the frame's peak)
+ * hold no more than the mesh. */
 static size_t next_cap(size_t cap, size_t need, size_t elem, size_t least)
 {
-    size_t nc = cap + (jm_grow_moves(cap * elem) ? cap / 8 : cap / 2);
+    size_t nc = jm_grow_moves(cap * elem) ? need : cap + cap / 2;
     if (nc < need) nc = need;
     if (nc < least) nc = least;
     return nc;
@@ -215,6 +216,21 @@ static void trim_mesh(jm_context *ctx)
     }
 }
 
+/* Gives back the last frame's mesh before the next one is made: it would
+ * otherwise be held, at its full size, beside the next frame's particle
+ * grid (regrowing it costs a fault per 2 MiB, grow.c). */
+static void drop_mesh(jm_context *ctx)
+{
+    jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    ctx->pos = ctx->nrm = ctx->uv = NULL;
+    ctx->idx = NULL;
+    ctx->capv = ctx->capi = 0;
+    ctx->nv = ctx->ni = 0;
+}
+
 /* ---- the frame pipeline */
 typedef struct frame_job {
     jm_context *ctx;
@@ -230,7 +246,8 @@ typedef struct frame_job {
     uint32_t *pend;        /* global pending pairs */
     size_t npend, cappend;
     atomic_int failed;     /* 1 memory, 2 internal; set by any worker */
-    uint32_t *iso;         /* sorted indices of isolated particles */
+    uint32_t *iso;         /* sorted indices of isolated particles, input order */
+    float *iso_pos;        /* and their positions (the sweep may release the grid's) */
     uint32_t *roots;       /* the cavity pass's pieces, for smoothing (roots_n entries) */
     size_t roots_n;
     size_t tmpl_v0, tmpl_i0;
@@ -311,7 +328,7 @@ static void template_task(void *arg, size_t k, int worker)
     (void)worker;
     frame_job *job = arg;
     jm_context *ctx = job->ctx;
-    const float *c = &job->g->pos[3 * (size_t)job->iso[k]];
+    const float *c = &job->iso_pos[3 * k];
     float d[3] = {c[0] - ctx->t_origin[0], c[1] - ctx->t_origin[1], c[2] - ctx->t_origin[2]};
     size_t v0 = job->tmpl_v0 + k * ctx->t_nv;
     for (size_t v = 0; v < ctx->t_nv; v++) {
@@ -545,6 +562,25 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     }
     job.slot_ibase = job.slot_vbase + slots;
     job.slot_pbase = job.slot_ibase + slots;
+    /* the isolated particles, in the input's order, and where they are: the
+     * templates go after the sweep, which may have released the grid */
+    if (g.n_isolated) {
+        job.iso = jm_alloc(mem, g.n_isolated * sizeof *job.iso);
+        job.iso_pos = jm_alloc(mem, 3 * g.n_isolated * sizeof *job.iso_pos);
+        if (!job.iso || !job.iso_pos || !jm_grid_isolated(&g, mem, job.iso)) {
+            s = JM_E_OUT_OF_MEMORY;
+            goto out_job;
+        }
+        for (size_t k = 0; k < g.n_isolated; k++)
+            memcpy(job.iso_pos + 3 * k, &g.pos[3 * (size_t)job.iso[k]], 3 * sizeof(float));
+    }
+    /* isotropic SPH with no post-processing: nothing after the sweep reads
+     * the particles, and the blocks run in z order (their keys), so the
+     * sweep gives the grid back behind it: the peak holds the mesh and a
+     * band of the grid, not both whole (an anisotropic frame's kernels and
+     * the post-processing read the grid later) */
+    const int post = c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f;
+    const int release = c->field == JM_FIELD_SPH && !c->aniso && !post;
 
     double tf = 0, te = 0, ta = 0, t_blocks = 0, t_stitch = 0;
     size_t nv = 0, ni = 0;
@@ -586,6 +622,14 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->ni = ni;
         jm_pool_run(ctx->pool, m, 1, copy_task, &job);
         if (job.failed) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
+        if (release && first + m < bs.count) {
+            /* the blocks left lie at the next one's z or above; their hoods
+             * (jm_hood_build) start at a cell z of at least
+             * floor((z - influence) / cell) - 1: every cell below is done */
+            int64_t kz = (int64_t)(bs.key[first + m] >> (2 * JM_KEY_BITS)) + bs.origin[2];
+            float zlo = (float)((double)(kz * c->block) * (double)c->h);
+            jm_grid_release_below(&g, mem, (int64_t)floorf((zlo - c->influence) * g.inv_cell) - 2);
+        }
         t_stitch += jm_now_ms() - ta1;
     }
     double t2 = jm_now_ms();
@@ -608,11 +652,6 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
 
     /* isolated particles from the template */
     if (g.n_isolated) {
-        job.iso = jm_alloc(mem, g.n_isolated * sizeof *job.iso);
-        if (!job.iso) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
-        size_t k = 0;
-        for (size_t i = 0; i < g.n; i++)
-            if (g.isolated[i]) job.iso[k++] = (uint32_t)i;
         job.tmpl_v0 = ctx->nv;
         job.tmpl_i0 = ctx->ni;
         size_t tv = ctx->nv + g.n_isolated * ctx->t_nv, ti = ctx->ni + g.n_isolated * ctx->t_ni;
@@ -622,7 +661,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->ni = ti;
         jm_pool_run(ctx->pool, g.n_isolated, 64, template_task, &job);
     }
-    if (!(c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f)) {
+    if (!post) {
         /* nothing below reads the particles (the post-processing would):
          * their grid goes before the last stages take memory */
         size_t iso = g.n_isolated;
@@ -685,7 +724,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     }
 
 out_job:
-    if (job.iso) jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
+    jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
+    jm_free(mem, job.iso_pos, 3 * g.n_isolated * sizeof *job.iso_pos);
     jm_free(mem, job.roots, job.roots_n * sizeof *job.roots);
     if (job.bmap)
         for (size_t b = 0; b < bs.count; b++) jm_free(mem, job.bmap[b], job.nbmap[b] * 2 * sizeof(uint32_t));
@@ -742,6 +782,7 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
     jm_stats st;
     memset(&st, 0, sizeof st);
     st.threads = ctx->threads;
+    drop_mesh(ctx); /* the last mesh's arrays: valid until this call */
     ctx->mem.peak = ctx->mem.current;
     /* the limit holds where memory is taken (alloc.c), not only in the
      * estimates: an allocation past it fails, and the frame is refused */

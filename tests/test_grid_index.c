@@ -16,8 +16,8 @@
  * cells: the hash map instead. That particle is isolated: meshed from the
  * sphere template after every block's triangles, it changes neither the
  * blocks nor their order, nor the cells or the sorted order of the others
- * (cells numbered by first appearance, it comes last). So the block part of
- * both meshes must be the same bytes. */
+ * (cells numbered by first appearance, or in key order for SPH: either way
+ * it comes last). So the block part of both meshes must be the same bytes. */
 #define S 14
 
 static float *lattice(size_t extra)
