@@ -46,9 +46,10 @@ run() { # NAME ARGS...: one jetmesh bench run into $OUT/NAME.json
   "$J" bench "$@" --json-out "$OUT/$name.json" >"$OUT/$name.txt" || { echo "bench_large.sh: $name failed" >&2; status=1; }
   cat "$OUT/$name.txt"
 }
-# 1M and 8M at 1 and 2 threads: one warm-up and 3 timed runs each
+# 1M and 8M at 1 and 2 threads: one warm-up and 5 timed runs each (the
+# median of 5 rides out a burst of other work on a shared machine)
 # shellcheck disable=SC2086
-run scaling "$T/block_$N1.xyz" "$T/block_$N8.xyz" -r 0.025 $SPH -j 1,2 --min-time 0 --repeat 3
+run scaling "$T/block_$N1.xyz" "$T/block_$N8.xyz" -r 0.025 $SPH -j 1,2 --min-time 0 --repeat 5
 # 13.35M on the 2 cores: one warm-up and 2 timed runs
 # shellcheck disable=SC2086
 run record "$T/block_$N13.xyz" -r 0.025 $SPH -j 2 --min-time 0 --repeat 2
@@ -96,7 +97,7 @@ p(`- Wall time: ${elapsed} s; load average (1, 5, 15 min) before: ${loadBefore},
 p();
 p("Blocks: `jetmesh generate block N` (jittered lattice of spacing 2r, r = 0.025; the 8M block has twice the " +
   "side of the 1M block); SPH colour field, cube r/2, support 4r, threshold 0.6, marching cubes. " +
-  "`jetmesh bench`: one untimed warm-up, then 3 timed runs (13.35M: 2); total is the median of `jm_stats` " +
+  "`jetmesh bench`: one untimed warm-up, then 5 timed runs (13.35M: 2); total is the median of `jm_stats` " +
   "milliseconds; lib peak = `jm_stats.peak_bytes` (the library's heap, mesh included); RSS peak = the process's " +
   "peak resident set during the case, input included. MiB = 2²⁰ bytes.");
 p();
