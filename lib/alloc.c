@@ -7,14 +7,14 @@
 #include <sys/mman.h>
 #endif
 
-/* Arrays this large come from fresh mappings every frame (malloc maps
- * blocks past its threshold, at most 32 MiB, and unmaps them on free), so
- * each frame touches their pages anew. In 4 KiB pages each first touch is
- * a fault, about 12 us apiece on the virtual machines we measure on (an
- * 8M-particle frame took 40,000 of them, half a second); advised huge,
- * the kernel maps 2 MiB at a fault, about 50 times less per byte. Smaller
- * arrays stay in malloc's heap, reused from frame to frame without faults. */
-#define HUGE_MIN ((size_t)32 << 20)
+/* Arrays this large are often given back to the system between frames
+ * (malloc maps large blocks afresh and unmaps them on free, and trims its
+ * heap's top), so a frame touches their pages anew. In 4 KiB pages each
+ * first touch is a fault, about 12 us apiece on the virtual machines we
+ * measure on (an 8M-particle frame took 40,000 of them, half a second);
+ * advised huge, the kernel maps 2 MiB at a fault, about 50 times less per
+ * byte. */
+#define HUGE_MIN ((size_t)4 << 20)
 #define HUGE_PAGE ((uintptr_t)2 << 20)
 
 void jm_huge_advise(void *p, size_t bytes)
