@@ -94,6 +94,16 @@ void *jm_alloc(jm_mem *m, size_t bytes)
     return huge(p, bytes);
 }
 
+void *jm_alloc_aligned(jm_mem *m, size_t bytes, size_t align)
+{
+    if (bytes == 0) bytes = 1;
+    if (m && !count_take(m, bytes)) return NULL;
+    void *p = NULL;
+    if (posix_memalign(&p, align, bytes) != 0) p = NULL;
+    if (!p && m) count_sub(m, bytes);
+    return huge(p, bytes);
+}
+
 void *jm_calloc(jm_mem *m, size_t n, size_t size)
 {
     size_t bytes;

@@ -249,13 +249,23 @@ void jm_grid_test_mode(int key_order, int release, size_t page)
 }
 
 /* Released in whole 2 MiB pages: the arrays of a grid that may be released
- * are advised huge (jm_huge_advise), so that the next frame, which takes
+ * start on such a page (so that what is released, and counted, is the same
+ * on every run) and are advised huge, so that the next frame, which takes
  * the same memory again, faults it back once per 2 MiB, not per 4 KiB */
-#define REL_PAGE ((uintptr_t)2 << 20)
+#define REL_PAGE ((size_t)2 << 20)
+static size_t rel_page(void) { return atomic_load(&mode_page) ? atomic_load(&mode_page) : REL_PAGE; }
 
-static void *releasable(const jm_grid *g, void *p, size_t bytes)
+/* SPH grids are numbered in key order, and can be released */
+static int keyed(const jm_config *c) { return c->field == JM_FIELD_SPH && atomic_load(&mode_key); }
+
+/* An array of a grid: where it can be released and spans a page at least,
+ * aligned to the page and advised huge */
+static void *grid_alloc(const jm_config *c, jm_mem *mem, size_t bytes)
 {
-    if (g->first_rank) jm_huge_advise(p, bytes);
+    const size_t ps = rel_page();
+    if (!keyed(c) || bytes < ps) return jm_alloc(mem, bytes);
+    void *p = jm_alloc_aligned(mem, bytes, ps);
+    jm_huge_advise(p, bytes);
     return p;
 }
 
@@ -313,7 +323,6 @@ static jm_status key_order(jm_grid *g, jm_mem *mem, uint32_t **count, size_t *co
     *count = c2;
     *count_cap = ncells;
     g->first_rank = rank;
-    if (g->dense) releasable(g, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense);
     /* each cell z's first cell */
     const int64_t z0 = (int32_t)c2[3], z1 = (int32_t)c2[4 * (ncells - 1) + 3];
     g->slab_z0 = z0;
@@ -333,9 +342,8 @@ static jm_status key_order(jm_grid *g, jm_mem *mem, uint32_t **count, size_t *co
  * longer counted. */
 static void release_prefix(jm_mem *mem, void *base, size_t prefix, size_t *rel)
 {
-    if (!base) return;
-    const uintptr_t ps = atomic_load(&mode_page) ? atomic_load(&mode_page) : REL_PAGE;
-    const uintptr_t a = ((uintptr_t)base + ps - 1) & ~(ps - 1), e = ((uintptr_t)base + prefix) & ~(ps - 1);
+    const uintptr_t ps = rel_page(), a = (uintptr_t)base, e = a + (prefix & ~(ps - 1));
+    if (!base || (a & (ps - 1))) return; /* smaller than a page: not aligned */
     if (e <= a + *rel) return;
     void *from = (void *)(a + *rel);
     const size_t len = e - a - *rel;
@@ -353,8 +361,7 @@ static void free_released(jm_mem *mem, void *p, size_t bytes, size_t rel)
     if (!p) return;
 #if defined(__linux__)
     if (rel && atomic_load(&mode_release) == 2) {
-        const uintptr_t ps = atomic_load(&mode_page) ? atomic_load(&mode_page) : REL_PAGE;
-        mprotect((void *)(((uintptr_t)p + ps - 1) & ~(ps - 1)), rel, PROT_READ | PROT_WRITE);
+        mprotect(p, rel, PROT_READ | PROT_WRITE);
     }
 #endif
     jm_free(NULL, p, bytes);
@@ -502,7 +509,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             g->dense_lo[a] = clo[a];
             g->dense_n[a] = (int64_t)floorf(hi[a] * g->inv_cell) - clo[a] + 1;
         }
-        g->dense = jm_alloc(mem, (size_t)box * sizeof *g->dense);
+        g->dense = grid_alloc(c, mem, (size_t)box * sizeof *g->dense);
         if (!g->dense) st = JM_E_OUT_OF_MEMORY;
         else memset(g->dense, 0xff, (size_t)box * sizeof *g->dense);
     } else {
@@ -574,10 +581,11 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         if (st != JM_OK) goto fail;
     }
     const size_t start_bytes = (ncells + 1) * sizeof *g->cell_start, pos_bytes = (n ? 3 * n : 1) * sizeof(float);
-    g->cell_start = releasable(g, jm_alloc(mem, start_bytes), start_bytes);
+    g->cell_start = grid_alloc(c, mem, start_bytes);
     g->cell_coord = jm_alloc(mem, (ncells ? 3 * ncells : 1) * sizeof *g->cell_coord);
-    g->pos = releasable(g, jm_alloc(mem, pos_bytes), pos_bytes);
-    g->isolated = releasable(g, jm_calloc(mem, n ? n : 1, 1), n ? n : 1);
+    g->pos = grid_alloc(c, mem, pos_bytes);
+    g->isolated = grid_alloc(c, mem, n ? n : 1);
+    if (g->isolated) memset(g->isolated, 0, n ? n : 1);
     if (!g->cell_start || !g->cell_coord || !g->pos || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     uint32_t acc = 0;
     for (size_t ci = 0; ci < ncells; ci++) {
@@ -632,7 +640,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     job.iso2 = iso * iso;
     job.range = (int)ceilf(iso / c->cell);
     if (c->field == JM_FIELD_SPH) {
-        g->weight = releasable(g, jm_alloc(mem, (n ? n : 1) * sizeof(float)), (n ? n : 1) * sizeof(float));
+        g->weight = grid_alloc(c, mem, (n ? n : 1) * sizeof(float));
         if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         int nt = jm_pool_threads(pool);
         job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);

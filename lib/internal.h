@@ -24,6 +24,9 @@ int jm_mem_take(jm_mem *m, size_t bytes);
 
 void *jm_alloc(jm_mem *m, size_t bytes);            /* NULL on failure or overflow */
 void *jm_calloc(jm_mem *m, size_t n, size_t size);
+/* Like jm_alloc, at an address a multiple of align (a power of two, a
+ * multiple of sizeof(void *)); freed by jm_free. */
+void *jm_alloc_aligned(jm_mem *m, size_t bytes, size_t align);
 void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes);
 void jm_free(jm_mem *m, void *p, size_t bytes);
 /* Advises the kernel to back [p, p + bytes) with huge pages where it can

@@ -393,8 +393,8 @@ typedef struct jm_particles {
 /**
  * A mesh. Arrays are owned by the context and stay valid until the next
  * jm_mesh_particles() on the same context or jm_context_free() (the next
- * call gives them back before it starts, so that a frame's peak never
- * holds the last frame's mesh).
+ * call may give them back before it starts, so that its peak does not hold
+ * the last frame's mesh beside its particles).
  */
 typedef struct jm_mesh {
     const float *positions;  /**< 3 floats per vertex */

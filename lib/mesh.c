@@ -216,18 +216,40 @@ static void trim_mesh(jm_context *ctx)
     }
 }
 
-/* Gives back the last frame's mesh before the next one is made: it would
- * otherwise be held, at its full size, beside the next frame's particle
- * grid (regrowing it costs a fault per 2 MiB, grow.c). */
-static void drop_mesh(jm_context *ctx)
+/* Whether a frame gives its particles back behind the block sweep: isotropic
+ * SPH with no post-processing (nothing after the sweep reads the particles;
+ * the anisotropic kernels and the post-processing do) */
+static int releases_grid(const jm_config *c)
 {
-    jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
-    jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
-    jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
-    jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
-    ctx->pos = ctx->nrm = ctx->uv = NULL;
-    ctx->idx = NULL;
-    ctx->capv = ctx->capi = 0;
+    return c->field == JM_FIELD_SPH && !c->aniso && !c->smooth_iters && !c->smooth_normal_iters &&
+           !(c->simplify_error > 0.0f);
+}
+
+/* Before a frame of n particles that releases its grid: gives back the last
+ * frame's mesh arrays that live in their own mappings (grow.h: 1 MiB and
+ * more), when the grid (about 17 bytes a particle) is at least a quarter of
+ * that mesh. Held, the last mesh would sit beside the whole grid, over the
+ * frame's own peak (its mesh and a band of the grid) by up to the grid's
+ * size; given back, it is faulted in again as it regrows (a fault per 2 MiB,
+ * grow.c: about 0.15 ms a MiB), which pays only where the grid is large
+ * beside the mesh (bulk fluid). Smaller arrays stay: in the heap, they would
+ * fault back per 4 KiB page (the 125-particle jet took twice as long). */
+static void drop_mesh(jm_context *ctx, size_t n)
+{
+    const size_t mesh = ctx->capv * 8 * sizeof(float) + ctx->capi * sizeof(uint32_t);
+    if (!releases_grid(&ctx->cfg) || 17 * n < mesh / 4) return;
+    if (jm_grow_moves(ctx->capv * 2 * sizeof(float))) {
+        jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
+        jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
+        jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
+        ctx->pos = ctx->nrm = ctx->uv = NULL;
+        ctx->capv = 0;
+    }
+    if (jm_grow_moves(ctx->capi * sizeof(uint32_t))) {
+        jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+        ctx->idx = NULL;
+        ctx->capi = 0;
+    }
     ctx->nv = ctx->ni = 0;
 }
 
@@ -574,13 +596,11 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         for (size_t k = 0; k < g.n_isolated; k++)
             memcpy(job.iso_pos + 3 * k, &g.pos[3 * (size_t)job.iso[k]], 3 * sizeof(float));
     }
-    /* isotropic SPH with no post-processing: nothing after the sweep reads
-     * the particles, and the blocks run in z order (their keys), so the
-     * sweep gives the grid back behind it: the peak holds the mesh and a
-     * band of the grid, not both whole (an anisotropic frame's kernels and
-     * the post-processing read the grid later) */
+    /* the blocks run in z order (their keys): where nothing after the sweep
+     * reads the particles, it gives the grid back behind it, and the peak
+     * holds the mesh and a band of the grid, not both whole */
     const int post = c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f;
-    const int release = c->field == JM_FIELD_SPH && !c->aniso && !post;
+    const int release = releases_grid(c);
 
     double tf = 0, te = 0, ta = 0, t_blocks = 0, t_stitch = 0;
     size_t nv = 0, ni = 0;
@@ -782,7 +802,7 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
     jm_stats st;
     memset(&st, 0, sizeof st);
     st.threads = ctx->threads;
-    drop_mesh(ctx); /* the last mesh's arrays: valid until this call */
+    drop_mesh(ctx, particles->count); /* the last mesh's arrays: valid until this call */
     ctx->mem.peak = ctx->mem.current;
     /* the limit holds where memory is taken (alloc.c), not only in the
      * estimates: an allocation past it fails, and the frame is refused */
