@@ -227,17 +227,19 @@ static int releases_grid(const jm_config *c)
 
 /* Before a frame of n particles that releases its grid: gives back the last
  * frame's mesh arrays that live in their own mappings (grow.h: 1 MiB and
- * more), when the grid (about 17 bytes a particle) is at least a quarter of
- * that mesh. Held, the last mesh would sit beside the whole grid, over the
+ * more), when the grid (about 17 bytes a particle) is at least half that
+ * mesh. Held, the last mesh would sit beside the whole grid, over the
  * frame's own peak (its mesh and a band of the grid) by up to the grid's
- * size; given back, it is faulted in again as it regrows (a fault per 2 MiB,
- * grow.c: about 0.15 ms a MiB), which pays only where the grid is large
- * beside the mesh (bulk fluid). Smaller arrays stay: in the heap, they would
- * fault back per 4 KiB page (the 125-particle jet took twice as long). */
+ * size; given back, it is faulted in again as it regrows, and the time
+ * that takes follows the mesh (measured: the 8M-particle block, grid 0.54
+ * of its mesh, 92 MiB off its peak of 395 for about 2 % more time; the 1M
+ * block, 0.27, would save 5 MiB of 83 for 3 to 6 % more). Smaller arrays
+ * stay: in the heap, they would fault back per 4 KiB page (the
+ * 125-particle jet took twice as long). */
 static void drop_mesh(jm_context *ctx, size_t n)
 {
     const size_t mesh = ctx->capv * 8 * sizeof(float) + ctx->capi * sizeof(uint32_t);
-    if (!releases_grid(&ctx->cfg) || 17 * n < mesh / 4) return;
+    if (!releases_grid(&ctx->cfg) || 17 * n < mesh / 2) return;
     if (jm_grow_moves(ctx->capv * 2 * sizeof(float))) {
         jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
         jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
