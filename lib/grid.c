@@ -345,14 +345,16 @@ static void release_prefix(jm_mem *mem, void *base, size_t prefix, size_t *rel)
     const uintptr_t ps = rel_page(), a = (uintptr_t)base, e = a + (prefix & ~(ps - 1));
     if (!base || (a & (ps - 1))) return; /* smaller than a page: not aligned */
     if (e <= a + *rel) return;
+#if defined(__linux__) && defined(MADV_DONTNEED)
     void *from = (void *)(a + *rel);
     const size_t len = e - a - *rel;
-#if defined(__linux__)
-    madvise(from, len, MADV_DONTNEED);
+    if (madvise(from, len, MADV_DONTNEED) != 0) return; /* still held: still counted */
     if (atomic_load(&mode_release) == 2) mprotect(from, len, PROT_NONE);
-#endif
     jm_mem_sub(mem, len);
     *rel = e - a;
+#else
+    (void)mem; /* elsewhere the pages are not given back: nothing changes */
+#endif
 }
 
 /* Frees an array of `bytes` (as counted when taken) of which rel were released. */
