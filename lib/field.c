@@ -11,7 +11,7 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
 {
     size_t total = 1;
     for (int a = 0; a < 3; a++) {
-        hood->c0[a] = (int64_t)floorf((lo[a] - c->influence) * g->inv_cell) - 1;
+        hood->c0[a] = jm_hood_cell_lo(g, c, lo[a]);
         int64_t c1 = (int64_t)floorf((hi[a] + c->influence) * g->inv_cell) + 1;
         hood->n[a] = (int)(c1 - hood->c0[a] + 1);
         total *= (size_t)hood->n[a];

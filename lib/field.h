@@ -46,6 +46,14 @@ static inline void node_span(const float *t, int n, float inv_h, float lo, float
     *b = j > i ? j : i;
 }
 
+/* The first cell coordinate, on one axis, of the hood of a box whose low
+ * end on that axis is lo (jm_hood_build: the cells within the influence
+ * radius, and one more). */
+static inline int64_t jm_hood_cell_lo(const jm_grid *g, const jm_config *c, float lo)
+{
+    return (int64_t)floorf((lo - c->influence) * g->inv_cell) - 1;
+}
+
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 

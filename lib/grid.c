@@ -578,7 +578,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
      * enumerates cells by their coordinates and a cell's particles in input
      * order, so the numbering changes no value; the isolated particles keep
      * the input's order through first_rank (jm_grid_isolated). */
-    if (c->field == JM_FIELD_SPH && ncells && atomic_load(&mode_key)) {
+    if (keyed(c) && ncells) {
         st = key_order(g, mem, &count, &count_cap, ncells, pcell, n);
         if (st != JM_OK) goto fail;
     }

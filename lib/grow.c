@@ -35,8 +35,7 @@ void *jm_grow(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
 #if defined(__linux__) && defined(MREMAP_MAYMOVE)
     if (mapped(old_bytes) && mapped(new_bytes)) {
         q = span(old_bytes) == span(new_bytes) ? p : mremap(p, span(old_bytes), span(new_bytes), MREMAP_MAYMOVE);
-        if (q == MAP_FAILED) q = NULL;
-        if (q && q != p) jm_huge_advise(q, span(new_bytes));
+        if (q == MAP_FAILED) q = NULL; /* a moved mapping keeps its advice */
     } else if (mapped(new_bytes)) { /* from the heap into a mapping */
         q = mmap(NULL, span(new_bytes), PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (q == MAP_FAILED) q = NULL;

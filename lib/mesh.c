@@ -127,6 +127,24 @@ void jm_context_get_params(const jm_context *ctx, jm_params *out_params)
     if (ctx && out_params) *out_params = ctx->params;
 }
 
+/* The mesh's vertex arrays (positions, normals, UVs: one capacity) and its
+ * index array, given back */
+static void free_vertices(jm_context *ctx)
+{
+    jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
+    jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
+    ctx->pos = ctx->nrm = ctx->uv = NULL;
+    ctx->capv = 0;
+}
+
+static void free_indices(jm_context *ctx)
+{
+    jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    ctx->idx = NULL;
+    ctx->capi = 0;
+}
+
 void jm_context_free(jm_context *ctx)
 {
     if (!ctx) return;
@@ -134,10 +152,8 @@ void jm_context_free(jm_context *ctx)
     drop_scratch(ctx);
     for (size_t i = 0; i < ctx->nbouts; i++) jm_bout_free(&ctx->bouts[i], &ctx->mem);
     jm_free(&ctx->mem, ctx->bouts, ctx->nbouts * sizeof *ctx->bouts);
-    jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
-    jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
-    jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
-    jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
+    free_vertices(ctx);
+    free_indices(ctx);
     jm_post_scratch_free(&ctx->post, &ctx->mem);
     jm_pool_free(ctx->pool);
     free(ctx);
@@ -216,13 +232,18 @@ static void trim_mesh(jm_context *ctx)
     }
 }
 
+/* Whether the mesh is post-processed (post.h), which reads the particles */
+static int post_processed(const jm_config *c)
+{
+    return c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f;
+}
+
 /* Whether a frame gives its particles back behind the block sweep: isotropic
  * SPH with no post-processing (nothing after the sweep reads the particles;
  * the anisotropic kernels and the post-processing do) */
 static int releases_grid(const jm_config *c)
 {
-    return c->field == JM_FIELD_SPH && !c->aniso && !c->smooth_iters && !c->smooth_normal_iters &&
-           !(c->simplify_error > 0.0f);
+    return c->field == JM_FIELD_SPH && !c->aniso && !post_processed(c);
 }
 
 /* Before a frame of n particles that releases its grid: gives back the last
@@ -240,18 +261,8 @@ static void drop_mesh(jm_context *ctx, size_t n)
 {
     const size_t mesh = ctx->capv * 8 * sizeof(float) + ctx->capi * sizeof(uint32_t);
     if (!releases_grid(&ctx->cfg) || 17 * n < mesh / 2) return;
-    if (jm_grow_moves(ctx->capv * 2 * sizeof(float))) {
-        jm_grow_free(&ctx->mem, ctx->pos, ctx->capv * 3 * sizeof(float));
-        jm_grow_free(&ctx->mem, ctx->nrm, ctx->capv * 3 * sizeof(float));
-        jm_grow_free(&ctx->mem, ctx->uv, ctx->capv * 2 * sizeof(float));
-        ctx->pos = ctx->nrm = ctx->uv = NULL;
-        ctx->capv = 0;
-    }
-    if (jm_grow_moves(ctx->capi * sizeof(uint32_t))) {
-        jm_grow_free(&ctx->mem, ctx->idx, ctx->capi * sizeof(uint32_t));
-        ctx->idx = NULL;
-        ctx->capi = 0;
-    }
+    if (jm_grow_moves(ctx->capv * 2 * sizeof(float))) free_vertices(ctx);
+    if (jm_grow_moves(ctx->capi * sizeof(uint32_t))) free_indices(ctx);
     ctx->nv = ctx->ni = 0;
 }
 
@@ -601,8 +612,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     /* the blocks run in z order (their keys): where nothing after the sweep
      * reads the particles, it gives the grid back behind it, and the peak
      * holds the mesh and a band of the grid, not both whole */
-    const int post = c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f;
-    const int release = releases_grid(c);
+    const int post = post_processed(c), release = releases_grid(c);
 
     double tf = 0, te = 0, ta = 0, t_blocks = 0, t_stitch = 0;
     size_t nv = 0, ni = 0;
@@ -645,12 +655,13 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         jm_pool_run(ctx->pool, m, 1, copy_task, &job);
         if (job.failed) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
         if (release && first + m < bs.count) {
-            /* the blocks left lie at the next one's z or above; their hoods
-             * (jm_hood_build) start at a cell z of at least
-             * floor((z - influence) / cell) - 1: every cell below is done */
+            /* the blocks left lie at the next one's z or above (its low
+             * nodes as block.c places them); their hoods start at a cell z
+             * of at least this one's: every cell below (one more to spare)
+             * is done */
             int64_t kz = (int64_t)(bs.key[first + m] >> (2 * JM_KEY_BITS)) + bs.origin[2];
             float zlo = (float)((double)(kz * c->block) * (double)c->h);
-            jm_grid_release_below(&g, mem, (int64_t)floorf((zlo - c->influence) * g.inv_cell) - 2);
+            jm_grid_release_below(&g, mem, jm_hood_cell_lo(&g, c, zlo) - 1);
         }
         t_stitch += jm_now_ms() - ta1;
     }
@@ -730,7 +741,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     st->ms_attributes += t4 - t3 - t_cav;
 
     /* post-processing (post.h) */
-    if (c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f) {
+    if (post) {
         jm_post_mesh pm = {ctx->pos, ctx->nrm, ctx->uv, ctx->idx, ctx->nv, ctx->ni, ctx->nv, ctx->ni, NULL};
         if (g.n_isolated) {
             pm.nv_lattice = job.tmpl_v0;
