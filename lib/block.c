@@ -370,9 +370,13 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         /* the SPH field, a block inside the fluid: partial sums prove most
          * nodes inside; only the nodes next to the others are sampled
          * (cull.c, aniso_cull.c) */
+        float proof = c->threshold;
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
-        else jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
-        size_t keep = jm_sph_spans(s->part, n, c->threshold, s->span);
+        else {
+            proof = jm_sph_partial_threshold(g, c, &s->hood);
+            jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
+        }
+        size_t keep = jm_sph_spans(s->part, n, proof, s->span);
         if (keep == 0) {
             out->t_field = jm_now_ms() - t0;
             return; /* every node inside */

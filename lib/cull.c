@@ -35,16 +35,32 @@
  *    returns before looking at any cube; a proven block returns at that same
  *    point with the same empty result. (m >= 1e5: never skipped.)
  *
- * 3. Nodes proven inside (jm_sph_partial, jm_sph_spans). The partial sum of
- *    a node adds, in the same order, the same terms (bit for bit: the same
- *    operations on the same operands) for a subset of the (particle, node)
- *    pairs the full sum has (splat.c, above PARTIAL_BODY: some of the same
- *    rows, and on each a window inside the run). By induction over the full
- *    order, the partial sum never exceeds the full one: a shared term goes
- *    to fl(p + t) <= fl(f + t) (rounding is monotone), a skipped term leaves
- *    p <= f <= fl(f + t) (t >= 0). So a partial sum above the threshold
- *    proves the node inside.
- *
+ * 3. Nodes proven inside (jm_sph_partial, jm_sph_partial_threshold,
+ *    jm_sph_spans). Lower bound of a node's sample: each term is
+ *    t_p = fl(wgt_p w_p) >= (1 - u) wgt_p (W_p - 26u), W_p the real kernel
+ *    at the real q_p (the float q and kernel errs as in 2), and a float sum
+ *    of m terms >= 0 is at least their exact sum times (1 - u)^(m-1), so
+ *        v >= (1 - m u) sum_p wgt_p W_p - 26u S,
+ *    m and S the count and the weights' sum of the hood's particles that are
+ *    not isolated (every term's particle is one; the others add +0 or
+ *    nothing). Upper bound of the partial sum L: its terms are
+ *    max(0, l1, l2), l_i = fl(fl(wgt a_i) - fl(fl(fl(wgt b_i) i2) s))
+ *    (or one fused rounding), i2 = fl(inv^2), inv = fl(1 / sph_h),
+ *    s = fl(fl(dx^2) + fl(fl(dy^2) + fl(dz^2))) from rounded differences:
+ *    s and b_i's product are within 5.1u and 5.1u of the real q_p^2 sph_h^2
+ *    and wgt b_i / sph_h^2, so a positive l_i is at most
+ *    wgt (a_i - b_i q_p^2) + 14 a_i u wgt <= wgt lambda_i(q_p) + 12u wgt
+ *    (a_i <= 0.81), with lambda_i(q) = a_i - b_i q^2 <= W(q) for every q
+ *    (cull.h: convexity). Hence every term is <= wgt_p W_p + 12u wgt_p over
+ *    a subset of the pairs, and L <= (1 + 1.01 m u)(sum_p wgt_p W_p + 12u S)
+ *    (its float sum, in any order, of at most m terms >= 0, +0 added
+ *    elsewhere). Together, with m u <= 0.01:
+ *        v >= L (1 - m u) / (1 + 1.01 m u) - 38u S
+ *          >= L (1 - 2.02 m u) - 38u S,
+ *    so L > T = (thr + 64u S)(1 + 2.5 (m + 1) u) proves v > thr (T taken in
+ *    double and rounded up to a float; thr > 0, m < 1e5). The terms are
+ *    lower bounds whatever their particles and nodes: the rows and window
+ *    a particle's terms cover are speed only.
  * 4. No crossing skipped. A cube holds a crossing only if its corners
  *    differ. A cube whose 8 corners are all proven inside holds none. Any
  *    other cube has a corner u not proven, and each of its corners lies
@@ -67,9 +83,9 @@
  *    and rows outside the spans' box (jm_span_box_of): their runs meet no
  *    span, so no span node loses a term.
  *
- * Speed only (never the result): the partial pass runs on blocks about full
- * of particles (jm_sph_block_full), where most nodes are inside, and the
- * outside proof is not tried there (a proof not tried skips nothing). Measured and left
+ * Speed only (never the result): the partial pass runs on blocks a third
+ * full of particles or more (jm_sph_block_full), and the outside proof is
+ * not tried there (a proof not tried skips nothing). Measured and left
  * out: upper bounds over sub-boxes of 4, 8 and 12 cubes for the outside
  * (the nodes they skip are the ones few particles reach: kernel lanes -3 %,
  * instructions +3 to +17 %); lower bounds from each kernel at its farthest
@@ -80,6 +96,23 @@
 #include <math.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+
+float jm_sph_partial_threshold(const jm_grid *g, const jm_config *c, const jm_hood *hood)
+{
+    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
+    const double u = 0x1p-24;
+    double S = 0.0, m = 0.0;
+    for (size_t k = 0; k < cells; k++)
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++)
+            if (!g->isolated[p]) {
+                S += g->weight[p];
+                m += 1.0;
+            }
+    if (!(c->threshold > 0.0f) || m >= 1e5) return INFINITY;
+    const double T = ((double)c->threshold + 64.0 * u * S) * (1.0 + 2.5 * (m + 1.0) * u);
+    float t = (float)T;
+    return (double)t < T ? nextafterf(t, INFINITY) : t;
+}
 
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
                          const float hi[3], size_t *inner)

@@ -14,16 +14,40 @@ static inline double jm_cull_kernel(double q)
     return 0.25 * a * a * a - b * b * b;
 }
 
-/* A block about full of particles at the rest spacing 2r (inner of them
- * within the box [lo, hi]: 0.85 of (box volume / (2r)^3) or more) is mostly
- * inside the fluid: block.c proves its nodes inside with partial sums, and
- * jm_sph_block_outside does not try its proof there. Speed only. */
+/* A block a third or more full of particles at the rest spacing 2r (inner
+ * of them within the box [lo, hi]: 0.3 of (box volume / (2r)^3) or more)
+ * holds fluid enough that block.c proves its nodes inside with partial sums
+ * and samples only the rest, and jm_sph_block_outside does not try its
+ * proof there. Speed only (0.3 measured against 0.85 and 0.15: the blocks
+ * the surface cuts, about half of the field's time on the 8M block, sample
+ * their fluid's nodes no more). */
+#define JM_FULL_FILL 0.3
 static inline int jm_sph_block_full(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
 {
     const double fill = (double)inner * 8.0 * c->r * c->r * c->r;
     const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    return fill >= 0.85 * vol;
+    return fill >= JM_FULL_FILL * vol;
 }
+
+/* The partial sums' kernel (jm_sph_partial): two tangents of the cubic
+ * spline's shape W as a function of s = q^2, at s = 0.64 and s = 1.74,
+ * each lowered by 1e-3. W(sqrt s) is convex in s on [0, inf) (second
+ * derivative > 0 on (0, 1) and (1, 4), first derivative continuous, 0 from
+ * s = 4 on), so each line lies below it everywhere, and so does
+ * max(0, line 1, line 2): the terms are lower bounds of the kernel's with no
+ * square root. Together they keep about 0.80 of a uniform interior's field
+ * within JM_PART_REACH. test_cull.c checks the lines against W. */
+#define JM_TAN_A1 0.807f
+#define JM_TAN_B1 0.6f
+#define JM_TAN_A2 0.3073f
+#define JM_TAN_B2 0.1318f
+
+/* The level above which a partial sum (jm_sph_partial) proves its node's
+ * sample above the threshold, for the block whose hood is hood: the
+ * threshold raised by the rounding of both sums (cull.c, 3); +infinity
+ * (nothing proven) when the threshold is not above 0 or the hood holds
+ * 1e5 particles or more. */
+float jm_sph_partial_threshold(const jm_grid *g, const jm_config *c, const jm_hood *hood);
 
 /* 1 when every lattice node of the box [lo, hi] (the block's first and last
  * node coordinates) provably samples at or below the threshold under the

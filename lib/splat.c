@@ -23,6 +23,19 @@ INLINE void row_c(float *row, const float *xp, int a, int b, float qx, float dyz
     }
 }
 
+/* The partial sums' terms (cull.h, JM_TAN_*): row[i] += max(a1 - b1 s,
+ * a2 - b2 s, 0), s = (xp[i] - qx)^2 + dyz2, on the lanes [a, b) */
+INLINE void rowp_c(float *row, const float *xp, int a, int b, float qx, float dyz2, const float t[4])
+{
+    for (int i = a; i < b; i++) {
+        float dx = xp[i] - qx;
+        float s = dx * dx + dyz2;
+        float l1 = t[0] - t[1] * s, l2 = t[2] - t[3] * s;
+        float l = l1 > l2 ? l1 : l2;
+        row[i] = row[i] + (l > 0.0f ? l : 0.0f);
+    }
+}
+
 /* What both bodies below start with: xp, the nodes' x continued past n at
  * the spacing h; pad cleared; box, the block's nodes widened by R. */
 #define ROWS_SETUP                                                                                         \
@@ -100,33 +113,28 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
         }                                                                                                  \
     }                                                                                                      \
 
-/* The partial sums (see jm_sph_partial): each particle's terms only on the
- * rows within JM_PART_REACH of its support (dyz2 < Rw2) and there on the
- * window of nodes [ic - K, ic + K] around its own, ic = floor(cx + 1/2),
- * clipped to [i0, i1) (ROWP adds +0 to the other lanes of its steps). These
- * are (particle, node) pairs SAMPLE_BODY computes the same terms for: the
- * same rows, dyz2 formed alike, and [ic - K, ic + K] within its run
- * [a, b): Rw2 <= R2 - ((K + 0.53) h)^2 makes the row's half chord
- * half = fl(sqrt(R2 - dyz2)) / h >= (K + 0.52)(1 - 4u) > K + 0.5 + 1e-4,
- * and |cx - ic| <= 1/2 + 1e-5 (cx is within 1e3 of 0, its ulp below
- * 1e-4), so fl(cx - half) < ic - K and fl(cx + half) > ic + K: a <= ic - K
- * and b >= ic + K + 1. */
+/* The partial sums (see jm_sph_partial): each particle's lower-bound terms
+ * (cull.h, JM_TAN_*) on the rows within JM_PART_REACH of its support
+ * (dyz2 < Rp^2), there on the window of nodes [ic - K, ic + K] around its
+ * own, ic = floor(cx + 1/2), clipped to [i0, i1) (ROWP adds +0 to the other
+ * lanes of its steps). Any subset of (particle, node) pairs gives a lower
+ * bound (cull.c): the reach and the window are speed only. t[4] = wgt a1,
+ * wgt b1 / sph_h^2, wgt a2, wgt b2 / sph_h^2, for s in world units. */
 #define PARTIAL_BODY(ROWP, PREP)                                                                               \
     const int ns = JM_PAD(n);                                                                              \
-    const float R = c->support, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;                         \
-    const float Rp = JM_PART_REACH * R;                                                                    \
+    const float R = c->support, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h, i2 = inv * inv;          \
+    const float Rp = JM_PART_REACH * R, Rp2 = Rp * Rp;                                                     \
     int K = (int)(0.65f * R * inv_h);                                                                      \
     K = K < 0 ? 0 : (K > 7 ? 7 : K);                                                                       \
-    const float Kh = ((float)K + 0.53f) * h;                                                               \
-    const float Rw2 = fminf(Rp * Rp, R * R - Kh * Kh);                                                     \
     (void)span;                                                                                            \
     ROWS_SETUP                                                                                             \
-    for (size_t k = 0; k < cells && Rw2 > 0.0f; k++) {                                                     \
+    for (size_t k = 0; k < cells; k++) {                                                                   \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                           \
             const float *q = GP(g, p);                                                                     \
             int i0, i1, j0, j1, k0, k1;                                                                    \
             if (!reaches(g, p, q, box, x, y, z, n, inv_h, R, &i0, &i1, &j0, &j1, &k0, &k1)) continue;       \
             const float wgt = g->weight[p];                                                                \
+            const float t[4] = {wgt * JM_TAN_A1, wgt * JM_TAN_B1 * i2, wgt * JM_TAN_A2, wgt * JM_TAN_B2 * i2}; \
             const float qx = q[0], cx = (qx - x[0]) * inv_h;                                               \
             const int ic = ifloor(cx + 0.5f);                                                              \
             const int a = ic - K > i0 ? ic - K : i0, b = ic + K + 1 < i1 ? ic + K + 1 : i1;                \
@@ -134,12 +142,12 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
             PREP                                                                                           \
             for (int kk = k0; kk < k1; kk++) {                                                             \
                 float dz = z[kk] - q[2], dz2 = dz * dz;                                                    \
-                if (dz2 >= Rw2) continue;                                                                  \
+                if (dz2 >= Rp2) continue;                                                                  \
                 float *slab = pad + (size_t)kk * n * ns;                                                   \
                 for (int jj = j0; jj < j1; jj++) {                                                         \
                     float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
-                    if (dyz2 >= Rw2) continue;                                                             \
-                    ROWP(slab + (size_t)jj * ns, xp, a, b, qx, dyz2, inv, wgt);                            \
+                    if (dyz2 >= Rp2) continue;                                                             \
+                    ROWP(slab + (size_t)jj * ns, xp, a, b, qx, dyz2, t);                                   \
                 }                                                                                          \
             }                                                                                              \
         }                                                                                                  \
@@ -151,7 +159,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
 
 static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 0, ) }
 static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 1, ) }
-static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(row_c, ) } /* exact lanes [a, b) */
+static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(rowp_c, ) } /* exact lanes [a, b) */
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -187,40 +195,35 @@ __attribute__((target("avx2"))) INLINE void row_avx2(float *row, const float *xp
     }
 }
 
-/* Partial rows: the lanes [a, b) only, the others of each step adding +0
- * (a sum of terms >= 0 plus +0 is itself) */
-INLINE void rowp_sse2(float *row, const float *xp, int a, int b, float qx, float dyz2, float inv, float wgt)
+/* Partial rows (rowp_c's terms): the lanes [a, b) only, the others of each
+ * step adding +0 */
+INLINE void rowp_sse2(float *row, const float *xp, int a, int b, float qx, float dyz2, const float t[4])
 {
-    const __m128 vq = _mm_set1_ps(qx), vd = _mm_set1_ps(dyz2), vi = _mm_set1_ps(inv), vw = _mm_set1_ps(wgt);
-    const __m128 two = _mm_set1_ps(2.0f), one = _mm_set1_ps(1.0f), zero = _mm_setzero_ps(), quarter = _mm_set1_ps(0.25f);
+    const __m128 vq = _mm_set1_ps(qx), vd = _mm_set1_ps(dyz2), zero = _mm_setzero_ps();
+    const __m128 a1 = _mm_set1_ps(t[0]), b1 = _mm_set1_ps(t[1]), a2 = _mm_set1_ps(t[2]), b2 = _mm_set1_ps(t[3]);
     const __m128i vb = _mm_set1_epi32(b), iota = _mm_setr_epi32(0, 1, 2, 3);
     for (int i = a; i < b; i += 4) {
         __m128 dx = _mm_sub_ps(_mm_loadu_ps(xp + i), vq);
-        __m128 q = _mm_mul_ps(_mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(dx, dx), vd)), vi);
-        __m128 A = _mm_max_ps(_mm_sub_ps(two, q), zero);
-        __m128 B = _mm_max_ps(_mm_sub_ps(one, q), zero);
-        __m128 w = _mm_sub_ps(_mm_mul_ps(_mm_mul_ps(_mm_mul_ps(quarter, A), A), A), _mm_mul_ps(_mm_mul_ps(B, B), B));
+        __m128 s = _mm_add_ps(_mm_mul_ps(dx, dx), vd);
+        __m128 l = _mm_max_ps(_mm_sub_ps(a1, _mm_mul_ps(b1, s)), _mm_sub_ps(a2, _mm_mul_ps(b2, s)));
         __m128 m = _mm_castsi128_ps(_mm_cmplt_epi32(_mm_add_epi32(_mm_set1_epi32(i), iota), vb));
-        _mm_storeu_ps(row + i, _mm_add_ps(_mm_loadu_ps(row + i), _mm_and_ps(m, _mm_mul_ps(vw, w))));
+        _mm_storeu_ps(row + i, _mm_add_ps(_mm_loadu_ps(row + i), _mm_and_ps(m, _mm_max_ps(l, zero))));
     }
 }
 
 __attribute__((target("avx2"))) INLINE void rowp_avx2(float *row, const float *xp, int a, int b, float qx,
-                                                      float dyz2, float inv, float wgt)
+                                                      float dyz2, const float t[4])
 {
-    const __m256 vq = _mm256_set1_ps(qx), vd = _mm256_set1_ps(dyz2), vi = _mm256_set1_ps(inv), vw = _mm256_set1_ps(wgt);
-    const __m256 two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
-    const __m256 quarter = _mm256_set1_ps(0.25f);
+    const __m256 vq = _mm256_set1_ps(qx), vd = _mm256_set1_ps(dyz2), zero = _mm256_setzero_ps();
+    const __m256 a1 = _mm256_set1_ps(t[0]), b1 = _mm256_set1_ps(t[1]), a2 = _mm256_set1_ps(t[2]);
+    const __m256 b2 = _mm256_set1_ps(t[3]);
     const __m256i vb = _mm256_set1_epi32(b), iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     for (int i = a; i < b; i += 8) {
         __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vq);
-        __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), vd)), vi);
-        __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero);
-        __m256 B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
-        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
-                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        __m256 s = _mm256_add_ps(_mm256_mul_ps(dx, dx), vd);
+        __m256 l = _mm256_max_ps(_mm256_sub_ps(a1, _mm256_mul_ps(b1, s)), _mm256_sub_ps(a2, _mm256_mul_ps(b2, s)));
         __m256 m = _mm256_castsi256_ps(_mm256_cmpgt_epi32(vb, _mm256_add_epi32(_mm256_set1_epi32(i), iota)));
-        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_and_ps(m, _mm256_mul_ps(vw, w))));
+        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_and_ps(m, _mm256_max_ps(l, zero))));
     }
 }
 
@@ -273,24 +276,21 @@ __attribute__((target("avx512f"))) INLINE void row_avx512d(float *row, const flo
  * nodes (PARTIAL_BODY), so one masked step covers it (masked loads: a window
  * may end within 16 lanes of its row's end), and its mask and (xp - qx)^2
  * are the same on every row of a particle: computed once per particle
- * (PREP_AVX512); each lane gets the operations it gets in rowp_avx2, on the
- * same operands, so the same bits (ROWP1_AVX512). */
+ * (PREP_AVX512). Fused multiply-adds: the bound in cull.c holds for one
+ * rounding or two. */
 #define PREP_AVX512                                                                                        \
     const __mmask16 pm = (__mmask16)((1u << (b - a)) - 1u);                                                \
     const __m512 pdx = _mm512_sub_ps(_mm512_maskz_loadu_ps(pm, xp + a), _mm512_set1_ps(qx));               \
-    const __m512 pdx2 = _mm512_mul_ps(pdx, pdx), pvi = _mm512_set1_ps(inv), pvw = _mm512_set1_ps(wgt);
-#define ROWP1_AVX512(row, xp_, a_, b_, qx_, dyz2, inv_, wgt_) rowp1_avx512((row) + a, pm, pdx2, dyz2, pvi, pvw)
-__attribute__((target("avx512f"))) INLINE void rowp1_avx512(float *row, __mmask16 m, __m512 dx2, float dyz2, __m512 vi,
-                                                            __m512 vw)
+    const __m512 pdx2 = _mm512_mul_ps(pdx, pdx);                                                           \
+    const __m512 pa1 = _mm512_set1_ps(t[0]), pb1 = _mm512_set1_ps(t[1]), pa2 = _mm512_set1_ps(t[2]);       \
+    const __m512 pb2 = _mm512_set1_ps(t[3]);
+#define ROWP1_AVX512(row, xp_, a_, b_, qx_, dyz2, t_) rowp1_avx512((row) + a, pm, pdx2, dyz2, pa1, pb1, pa2, pb2)
+__attribute__((target("avx512f"))) INLINE void rowp1_avx512(float *row, __mmask16 m, __m512 dx2, float dyz2, __m512 a1,
+                                                            __m512 b1, __m512 a2, __m512 b2)
 {
-    const __m512 two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
-    const __m512 quarter = _mm512_set1_ps(0.25f);
-    __m512 q = _mm512_mul_ps(_mm512_sqrt_ps(_mm512_add_ps(dx2, _mm512_set1_ps(dyz2))), vi);
-    __m512 A = _mm512_max_ps(_mm512_sub_ps(two, q), zero);
-    __m512 B = _mm512_max_ps(_mm512_sub_ps(one, q), zero);
-    __m512 w = _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(quarter, A), A), A),
-                             _mm512_mul_ps(_mm512_mul_ps(B, B), B));
-    _mm512_mask_storeu_ps(row, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row), _mm512_mul_ps(vw, w)));
+    const __m512 s = _mm512_add_ps(dx2, _mm512_set1_ps(dyz2));
+    const __m512 l = _mm512_max_ps(_mm512_fnmadd_ps(b1, s, a1), _mm512_fnmadd_ps(b2, s, a2));
+    _mm512_mask_storeu_ps(row, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row), _mm512_max_ps(l, _mm512_setzero_ps())));
 }
 
 static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 0, ) }
