@@ -94,6 +94,7 @@
  */
 #include "cull.h"
 #include <math.h>
+#include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
@@ -159,13 +160,24 @@ size_t jm_sph_spans(const float *part, int n, float threshold, uint8_t *span)
 {
     const size_t ns = JM_PAD(n), rows = (size_t)n * n;
     uint8_t lo[JM_PAD_MAX * JM_PAD_MAX], hi[JM_PAD_MAX * JM_PAD_MAX]; /* per row: the nodes not proven, [lo, hi) */
+    size_t open = 0; /* rows with a node not proven */
     for (size_t r = 0; r < rows; r++) {
         const float *p = part + r * ns;
+        int proven = 0; /* counted first: a loop the compiler vectorises */
+        for (int i = 0; i < n; i++) proven += p[i] > threshold;
         int a = 0, b = n;
-        while (a < n && p[a] > threshold) a++;
-        while (b > a && p[b - 1] > threshold) b--;
+        if (proven == n) a = b = n;
+        else {
+            while (a < n && p[a] > threshold) a++;
+            while (b > a && p[b - 1] > threshold) b--;
+            open++;
+        }
         lo[r] = (uint8_t)a;
         hi[r] = (uint8_t)b;
+    }
+    if (!open) { /* every node proven: no spans */
+        memset(span, 0, 2 * rows);
+        return 0;
     }
     size_t nodes = 0;
     for (int k = 0; k < n; k++)
