@@ -367,9 +367,9 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     const float *fv;
     const uint8_t *span = NULL;
     if (c->cull && jm_sph_block_full(c, inner, lo, hi)) {
-        /* the SPH field, a block inside the fluid: partial sums prove most
-         * nodes inside; only the nodes next to the others are sampled
-         * (cull.c, aniso_cull.c) */
+        /* the SPH field, a block a third full of fluid or more: partial
+         * sums prove nodes inside; only the nodes next to the others are
+         * sampled (cull.c, aniso_cull.c) */
         float proof = c->threshold;
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
         else {

@@ -18,9 +18,10 @@ static inline double jm_cull_kernel(double q)
  * of them within the box [lo, hi]: 0.3 of (box volume / (2r)^3) or more)
  * holds fluid enough that block.c proves its nodes inside with partial sums
  * and samples only the rest, and jm_sph_block_outside does not try its
- * proof there. Speed only (0.3 measured against 0.85 and 0.15: the blocks
- * the surface cuts, about half of the field's time on the 8M block, sample
- * their fluid's nodes no more). */
+ * proof there. Speed only: 0.3 measured against 0.85 and 0.15 (with the
+ * exact partial sums, alternating runs: the 8M block's field 7.3-7.7 s at
+ * 0.85, 6.3 s at 0.3; the 1M block's 1.01 s and 0.91-0.93 s), as the
+ * blocks the surface cuts no longer sample all of their fluid's nodes. */
 #define JM_FULL_FILL 0.3
 static inline int jm_sph_block_full(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
 {
