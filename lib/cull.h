@@ -66,8 +66,10 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
 /* From the partial sums part of the n^3 nodes (rows of JM_PAD(n), see
  * jm_sph_partial), span[2 r], span[2 r + 1] get [a, b), the nodes of node
  * row r = k n + j to sample (a == b: none): every node whose partial sum is
- * not above threshold and its 26 neighbours lie in the spans; every node
- * outside them is proven inside. Returns the number of nodes in the spans
+ * not above threshold (jm_sph_partial_threshold for the isotropic field,
+ * the threshold itself for the anisotropic one's exact partial sums) and
+ * its 26 neighbours lie in the spans; every node outside them is proven
+ * inside. Returns the number of nodes in the spans
  * (0: the whole block is inside). */
 size_t jm_sph_spans(const float *part, int n, float threshold, uint8_t *span);
 /* The box of a block's spans: the slabs [k0, k1) holding one, in slab k the

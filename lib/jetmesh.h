@@ -371,12 +371,13 @@ typedef struct jm_params {
                                  upper bound of the field (each particle's
                                  kernel at its nearest distance to the block,
                                  with float rounding slack) stays below the
-                                 threshold is skipped, and in blocks inside
-                                 the fluid nodes whose partial sums (the
-                                 nearer particles' terms) already exceed it
-                                 are not sampled unless next to a node that
-                                 may be outside: no cube holding a crossing
-                                 loses a sample */
+                                 threshold is skipped, and in blocks a
+                                 third full of fluid or more nodes whose
+                                 partial sums (lower bounds from the nearer
+                                 particles' kernels) exceed it, with float
+                                 rounding slack, are not sampled unless next
+                                 to a node that may be outside: no cube
+                                 holding a crossing loses a sample */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
