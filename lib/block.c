@@ -355,9 +355,9 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         out->failed = 1;
         return;
     }
-    size_t inner = 0;
-    if (c->cull && (c->aniso ? jm_aniso_block_outside(g, c, &s->an_cand, lo, hi, &inner)
-                             : jm_sph_block_outside(g, c, &s->hood, lo, hi, &inner))) {
+    jm_hood_census census = {0, 0, 0.0};
+    if (c->cull && (c->aniso ? jm_aniso_block_outside(g, c, &s->an_cand, lo, hi, &census.inner)
+                             : jm_sph_block_outside(g, c, &s->hood, lo, hi, &census))) {
         /* proven to hold no inside node (cull.c): sampling would find none
          * and return here below, with nothing to mesh */
         out->t_field = jm_now_ms() - t0;
@@ -366,14 +366,14 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     size_t fs;
     const float *fv;
     const uint8_t *span = NULL;
-    if (c->cull && jm_sph_block_full(c, inner, lo, hi)) {
+    if (c->cull && jm_sph_block_full(c, census.inner, lo, hi)) {
         /* the SPH field, a block a third full of fluid or more: partial
          * sums prove nodes inside; only the nodes next to the others are
          * sampled (cull.c, aniso_cull.c) */
         float proof = c->threshold;
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
         else {
-            proof = jm_sph_partial_threshold(g, c, &s->hood);
+            proof = jm_sph_partial_threshold(c, &census);
             jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
         }
         size_t keep = jm_sph_spans(s->part, n, proof, s->span);

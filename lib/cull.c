@@ -98,25 +98,17 @@
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
-float jm_sph_partial_threshold(const jm_grid *g, const jm_config *c, const jm_hood *hood)
+float jm_sph_partial_threshold(const jm_config *c, const jm_hood_census *h)
 {
-    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
-    const double u = 0x1p-24;
-    double S = 0.0, m = 0.0;
-    for (size_t k = 0; k < cells; k++)
-        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++)
-            if (!g->isolated[p]) {
-                S += g->weight[p];
-                m += 1.0;
-            }
+    const double u = 0x1p-24, m = (double)h->m;
     if (!(c->threshold > 0.0f) || m >= 1e5) return INFINITY;
-    const double T = ((double)c->threshold + 64.0 * u * S) * (1.0 + 2.5 * (m + 1.0) * u);
+    const double T = ((double)c->threshold + 64.0 * u * h->S) * (1.0 + 2.5 * (m + 1.0) * u);
     float t = (float)T;
     return (double)t < T ? nextafterf(t, INFINITY) : t;
 }
 
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
-                         const float hi[3], size_t *inner)
+                         const float hi[3], jm_hood_census *census)
 {
     const double thr = c->threshold, sph_h = c->sph_h, Rn = (double)c->support * (1.0 + 1e-5), Rn2 = Rn * Rn;
     int open = thr > 0.0; /* a proof is possible (every node is >= 0) */
@@ -126,15 +118,21 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
     const float bx0 = lo[0] - R, bx1 = hi[0] + R, by0 = lo[1] - R, by1 = hi[1] + R, bz0 = lo[2] - R, bz1 = hi[2] + R;
     const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     double U = 0.0, S = 0.0;
-    size_t m = 0, in = 0;
-    /* first the particles within the box: a full block tries no proof */
+    size_t m = 0, in = 0, all = 0;
+    double wsum = 0.0;
+    /* first the census (the particles within the box: a full block tries no
+     * proof; the hood's count and weights, for jm_sph_partial_threshold) */
     for (size_t k = 0; k < cells; k++)
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+            if (g->isolated[p]) continue;
             const float *q = GP(g, p);
-            in += q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] && q[2] <= hi[2] &&
-                  !g->isolated[p];
+            in += q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] && q[2] <= hi[2];
+            all++;
+            wsum += g->weight[p];
         }
-    *inner = in;
+    census->inner = in;
+    census->m = all;
+    census->S = wsum;
     if (!open || jm_sph_block_full(c, in, lo, hi)) return 0;
     for (size_t k = 0; k < cells; k++)
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {

@@ -43,22 +43,30 @@ static inline int jm_sph_block_full(const jm_config *c, size_t inner, const floa
 #define JM_TAN_A2 0.3073f
 #define JM_TAN_B2 0.1318f
 
+/* What jm_sph_block_outside counts over a block's hood in one pass: the
+ * particles (not isolated) within the block's box, and the count and weight
+ * sum of all the hood's particles that are not isolated, which bound the
+ * partial sums' rounding (jm_sph_partial_threshold). */
+typedef struct jm_hood_census {
+    size_t inner, m;
+    double S;
+} jm_hood_census;
+
 /* The level above which a partial sum (jm_sph_partial) proves its node's
- * sample above the threshold, for the block whose hood is hood: the
+ * sample above the threshold, for the block whose hood's census is h: the
  * threshold raised by the rounding of both sums (cull.c, 3); +infinity
  * (nothing proven) when the threshold is not above 0 or the hood holds
  * 1e5 particles or more. */
-float jm_sph_partial_threshold(const jm_grid *g, const jm_config *c, const jm_hood *hood);
+float jm_sph_partial_threshold(const jm_config *c, const jm_hood_census *h);
 
 /* 1 when every lattice node of the box [lo, hi] (the block's first and last
  * node coordinates) provably samples at or below the threshold under the
  * isotropic SPH field (splat.c), so the block holds no inside node and no
- * crossing; 0 when that cannot be proven. *inner gets the number of
- * particles (not isolated) within the box; a full block
- * (jm_sph_block_full) returns 0 at once. The proof is at the top of
- * cull.c. */
+ * crossing; 0 when that cannot be proven. *census gets the hood's counts
+ * (jm_hood_census); a full block (jm_sph_block_full) returns 0 at once.
+ * The proof is at the top of cull.c. */
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
-                         const float hi[3], size_t *inner);
+                         const float hi[3], jm_hood_census *census);
 
 /* Bytes of the span array jm_sph_spans fills for n nodes a side. */
 #define JM_CULL_SPAN_BYTES(n) (2 * (size_t)(n) * (size_t)(n))
