@@ -4,6 +4,7 @@
 #include "aniso_normals.h"
 #include "aniso_splat.h"
 #include "cull.h"
+#include "inside_boxes.h"
 #include "metavertex.h"
 #include "splat.h"
 #include "tables.h"
@@ -372,7 +373,10 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
          * sampled (cull.c, aniso_cull.c) */
         float proof = c->threshold;
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
-        else {
+        else if (jm_sph_boxes_apply(c, &census, lo, hi)) { /* nine tenths full, fine lattice */
+            proof = jm_sph_box_threshold(c, &census);
+            jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
+        } else {
             proof = jm_sph_partial_threshold(c, &census);
             jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
         }

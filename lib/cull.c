@@ -61,6 +61,35 @@
  *    double and rounded up to a float; thr > 0, m < 1e5). The terms are
  *    lower bounds whatever their particles and nodes: the rows and window
  *    a particle's terms cover are speed only.
+ * 3b. Nodes proven inside by boxes (inside_boxes.c, jm_sph_box_threshold),
+ *    in blocks nine tenths full on a fine lattice, instead of 3. A box is
+ *    the nodes x = c + d (up to 3 x 3 x 3) around a centre node c of odd
+ *    indices, |d_a| <= e_a (e_a the largest such offset of the block's float
+ *    nodes, in double, raised), |d|^2 <= E2 (a float >= e0^2 + e1^2 + e2^2).
+ *    Particle p (v = c - q_p, weight w) is at real squared distance s(x) =
+ *    |v|^2 + 2 v.d + |d|^2 from node x. Its terms use the line a - b s (b >=
+ *    0) of the bin picked from the float s at c (any pick will do): below
+ *    W(sqrt(s) / sph_h) at every s, a tangent of that convex function
+ *    lowered by 1e-4, which covers a and b being floats, or the zero line
+ *    (test_cull.c checks the lines as floats). So its real term at x is at
+ *    least w (a - b (|v|^2 + E2)) - 2 w b v.d, and over the box's particles
+ *        sum_p wgt_p W_p(x) >= L - sum_a 2 e_a |G_a|,
+ *    L = sum_p w (a - b (|v|^2 + E2)) and G_a = sum_p w b v_a in real
+ *    arithmetic. Rounding: a term on a line of bin k has s below the bin's
+ *    end, so |a - b (s + E2)| <= M and |b v_a| <= Gt (the largest over the
+ *    bins, with 1e-6 to spare); each float term errs by at most 8u M w (4u
+ *    Gt w) from its real value, and a float sum of mb terms, in any order,
+ *    with or without fused multiply-adds, by at most 1.01 mb u times the
+ *    sum of their magnitudes. So the float bound V = L - sum_a te_a |G_a|
+ *    (te_a = 2 e_a rounded up) is within
+ *        err = 1.02 u W ((mb + 16) M + (te_0 + te_1 + te_2)(mb + 8) Gt)
+ *    of the real one, mb and W the count and weight sum of the particles
+ *    the box's row of centres took (zero lines add exact zeros), and the
+ *    last subtractions err by less than 4u |V|. Each node gets, from the
+ *    best of its boxes, V - (err + 4u |V|) <= sum_p wgt_p W_p; with 3's
+ *    v >= (1 - m u) sum_p wgt_p W_p - 26u S, a node whose bound is above
+ *    T = (thr + 26u S) / (1 - m u) (in double, rounded up to a float; thr >
+ *    0, m < 1e5) samples above thr. Boxes, reach and bins are speed only.
  * 4. No crossing skipped. A cube holds a crossing only if its corners
  *    differ. A cube whose 8 corners are all proven inside holds none. Any
  *    other cube has a corner u not proven, and each of its corners lies
@@ -84,8 +113,9 @@
  *    span, so no span node loses a term.
  *
  * Speed only (never the result): the partial pass runs on blocks a third
- * full of particles or more (jm_sph_block_full), and the outside proof is
- * not tried there (a proof not tried skips nothing). Measured and left
+ * full of particles or more (jm_sph_block_full), the box pass instead on
+ * those nine tenths full when the lattice is fine (jm_sph_boxes_apply), and
+ * the outside proof is not tried there (a proof not tried skips nothing). Measured and left
  * out: upper bounds over sub-boxes of 4, 8 and 12 cubes for the outside
  * (the nodes they skip are the ones few particles reach: kernel lanes -3 %,
  * instructions +3 to +17 %); lower bounds from each kernel at its farthest

@@ -50,6 +50,7 @@ void jm_pool_run(jm_pool *p, size_t n, size_t chunk, jm_task_fn fn, void *arg);
 double jm_now_ms(void);
 
 /* ---- resolved parameters */
+#define JM_BOX_BINS 32
 typedef struct jm_config {
     float r;           /* radius */
     float h;           /* cube edge, world */
@@ -94,6 +95,9 @@ typedef struct jm_config {
     int unit;
     float unit_in;
     int cull;          /* sph: skip blocks proven outside, nodes proven inside (cull.c, aniso_cull.c) */
+    /* sph: the box pass's lines (inside_boxes.h): a[k] - b[k] s for s in
+     * world units, k = min(s * box_bin, JM_BOX_BINS - 1) */
+    float box_a[JM_BOX_BINS], box_b[JM_BOX_BINS], box_bin;
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

@@ -1,5 +1,6 @@
 /* params.c - status messages, version, and parameter defaults/validation. */
 #include "internal.h"
+#include "inside_boxes.h"
 #include "metavertex.h"
 #include <math.h>
 #include <string.h>
@@ -48,6 +49,10 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->threshold = p.threshold;
     c->sph_h = p.smoothing_length * r;
     c->support = 2.0f * c->sph_h;
+    if (p.field == JM_FIELD_SPH && c->sph_h > 0.0f) {
+        jm_box_lines(c->box_a, c->box_b, 1.0 / ((double)c->sph_h * c->sph_h));
+        c->box_bin = (float)(JM_BOX_BINS_PER_S / ((double)c->sph_h * c->sph_h));
+    }
     c->link = p.link_distance * r;
     /* Node values below -margin/r are clamped. Every piece is splatted
      * wherever it exceeds -margin/r, so an untouched node is truly below

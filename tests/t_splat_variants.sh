@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere), and the smoothing's AVX2 and plain C paths, give byte-identical meshes.
+# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere, the interior proofs), and the smoothing's AVX2 and plain C paths, give byte-identical meshes.
 set -e
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root"
@@ -14,6 +14,11 @@ in=samples/real/double_dam_break_frame_26_4732_particles.vtk
 # smoothing: binary PLY (every bit of every float)
 smooth="--field sph --method mc --smooth 25 --smooth-normals 10"
 "$J" convert "$in" -r 0.025 $smooth -o "$tmp/smooth.ply" -q
+# a lattice block: full blocks, whose nodes the box pass proves inside
+# (inside_boxes.c: AVX-512 against plain C)
+"$J" generate block 40000 -q -o "$tmp/block.xyz"
+bargs="-r 0.025 --field sph --smoothing-length 2 --threshold 0.6 --method mc"
+"$J" convert "$tmp/block.xyz" $bargs -o "$tmp/block.ply" -q
 for v in 1 2 3; do
   # variant 3 (plain C) also builds the smoothing's plain code only
   extra=; [ "$v" = 3 ] && extra=-DJM_SMOOTH_PLAIN
@@ -37,4 +42,7 @@ for v in 1 2 3; do
   "build-splat$v/jetmesh" convert "$in" -r 0.025 $smooth -o "$tmp/smooth$v.ply" -q
   cmp -s "$tmp/smooth.ply" "$tmp/smooth$v.ply" || { echo "variant $v: the smoothed runs differ"; exit 1; }
   echo "variant $v: smoothed identical"
+  "build-splat$v/jetmesh" convert "$tmp/block.xyz" $bargs -o "$tmp/block$v.ply" -q
+  cmp -s "$tmp/block.ply" "$tmp/block$v.ply" || { echo "variant $v: the lattice block's runs differ"; exit 1; }
+  echo "variant $v: lattice block identical"
 done

@@ -9,6 +9,7 @@
 
 #include "../lib/jetmesh.h"
 #include "../lib/cull.h"
+#include "../lib/inside_boxes.h"
 #include "util/cull_check.h"
 
 /* Culled (1 and 2 threads) against every node sampled: the same bytes.
@@ -76,10 +77,34 @@ static void test_tangent_lines_below_kernel(void **state)
     assert_true(worst < 0.0);
 }
 
+/* The box pass's lines (inside_boxes.h), as the floats it uses: each lies
+ * below the kernel at every s = q^2 (so a term on any line, at any
+ * distance, bounds the sample's from below) and touches it within 2e-4 at
+ * its tangent point (a bound that proves nodes); the last is the zero
+ * line. */
+static void test_box_lines_below_kernel(void **state)
+{
+    (void)state;
+    float a[JM_BOX_BINS], b[JM_BOX_BINS];
+    jm_box_lines(a, b, 1.0);
+    assert_true(a[JM_BOX_BINS - 1] == 0.0f && b[JM_BOX_BINS - 1] == 0.0f);
+    for (int k = 0; k < JM_BOX_BINS - 1; k++) {
+        assert_true(b[k] >= 0.0f);
+        for (int i = 0; i <= 600000; i++) {
+            const double s = i * 1e-5, gap = ((double)a[k] - (double)b[k] * s) - jm_cull_kernel(sqrt(s));
+            if (gap >= 0.0) fail_msg("line %d at s = %.5f: %.9f is not below the kernel %.9f", k, s, a[k] - b[k] * s,
+                                     jm_cull_kernel(sqrt(s)));
+        }
+        const double sk = (k + 0.5) / JM_BOX_BINS_PER_S, gap = jm_cull_kernel(sqrt(sk)) - (a[k] - b[k] * sk);
+        if (!(gap > 0.0 && gap < 2e-4)) fail_msg("line %d leaves the kernel at its tangent point (gap %.3g)", k, gap);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_tangent_lines_below_kernel),
+        cmocka_unit_test(test_box_lines_below_kernel),
         cmocka_unit_test(test_block_with_holes),
         cmocka_unit_test(test_real_frames_same_bytes),
     };

@@ -1,0 +1,285 @@
+/* inside_boxes.c - SPH nodes proven inside a box of 3 x 3 x 3 nodes at a time: each particle's tangent line at the box's centre node. */
+#include "inside_boxes.h"
+#include "cpu.h"
+#include <math.h>
+#include <string.h>
+
+#define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
+#define LANES 16 /* box centres a row: n <= 33 nodes give at most 16 boxes */
+
+/* W(sqrt s) and its derivative in s (the kernel's shape, cull.h). */
+static double shape_ds(double s)
+{
+    const double q = sqrt(s);
+    if (q < 1e-12) return -1.5; /* W = 1 - 1.5 s + 0.75 s^1.5 near 0 */
+    double a = 2.0 - q, b = 1.0 - q;
+    a = a > 0.0 ? a : 0.0;
+    b = b > 0.0 ? b : 0.0;
+    return (-0.75 * a * a + 3.0 * b * b) / (2.0 * q);
+}
+
+void jm_box_lines(float a[JM_BOX_BINS], float b[JM_BOX_BINS], double inv_sph_h2)
+{
+    for (int k = 0; k < JM_BOX_BINS; k++) {
+        double ak = 0.0, bk = 0.0; /* the last bin: the zero line */
+        if (k < JM_BOX_BINS - 1) {
+            const double sk = (k + 0.5) / JM_BOX_BINS_PER_S, d = shape_ds(sk);
+            ak = jm_cull_kernel(sqrt(sk)) - d * sk - JM_BOX_LOWER;
+            bk = -d;
+        }
+        a[k] = (float)ak;
+        b[k] = (float)(bk * inv_sph_h2);
+    }
+}
+
+int jm_sph_boxes_apply(const jm_config *c, const jm_hood_census *h, const float lo[3], const float hi[3])
+{
+    if (c->h > JM_BOX_MAX_H * c->sph_h) return 0;
+    const double fill = (double)h->inner * 8.0 * c->r * c->r * c->r;
+    const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+    return fill >= JM_BOX_FILL * vol;
+}
+
+/* How far a box's nodes lie from its centre node, per axis: the largest
+ * |t[2 i] - t[2 i + 1]| and |t[2 i + 2] - t[2 i + 1]| over the boxes (the
+ * float nodes are not exactly evenly spaced), in double, raised a little. */
+static void box_extent(const float *x, const float *y, const float *z, int n, double e[3])
+{
+    const float *t[3] = {x, y, z};
+    for (int a = 0; a < 3; a++) {
+        double m = 0.0;
+        for (int i = 0; 2 * i + 1 < n; i++) {
+            const double cc = t[a][2 * i + 1], d0 = cc - t[a][2 * i];
+            const double d1 = 2 * i + 2 < n ? (double)t[a][2 * i + 2] - cc : 0.0;
+            m = fmax(m, fmax(fabs(d0), fabs(d1)));
+        }
+        e[a] = m * (1.0 + 1e-9);
+    }
+}
+
+/* E2 >= e0^2 + e1^2 + e2^2 as a float, and the factors 2 e_a */
+static void box_consts(const double e[3], float *E2, float te[3])
+{
+    const double s = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+    *E2 = (float)s;
+    if ((double)*E2 < s) *E2 = nextafterf(*E2, INFINITY);
+    for (int a = 0; a < 3; a++) {
+        te[a] = (float)(2.0 * e[a]);
+        if ((double)te[a] < 2.0 * e[a]) te[a] = nextafterf(te[a], INFINITY);
+    }
+}
+
+float jm_sph_box_threshold(const jm_config *c, const jm_hood_census *h)
+{
+    const double u = 0x1p-24, m = (double)h->m;
+    if (!(c->threshold > 0.0f) || m >= 1e5) return INFINITY;
+    const double T = ((double)c->threshold + 26.0 * u * h->S) / (1.0 - m * u);
+    float t = (float)T;
+    return (double)t < T ? nextafterf(t, INFINITY) : t;
+}
+
+/* What both variants share: the centres, the extents, the particles'
+ * filter box, each particle's rows of box centres within the reach. */
+typedef struct {
+    int nb;                        /* boxes a side: centres 1, 3, .., 2 nb - 1 */
+    float xc[LANES], yc[LANES], zc[LANES];
+    float E2, te[3];
+    float lo[3], hi[3];            /* particles outside add to no row */
+    float Rp, Rp2, inv2h;
+    float M, Gt;                   /* |a - b (s + E2)| and |b v_a| for any term (cull.c, 3b) */
+} box_setup;
+
+static void setup(const jm_config *c, const float *x, const float *y, const float *z, int n, box_setup *b)
+{
+    b->nb = n / 2;
+    for (int i = 0; i < LANES; i++) {
+        const int t = 2 * i + 1 < n ? 2 * i + 1 : n - 1;
+        b->xc[i] = x[t];
+        b->yc[i] = y[t];
+        b->zc[i] = z[t];
+    }
+    double e[3];
+    box_extent(x, y, z, n, e);
+    box_consts(e, &b->E2, b->te);
+    double M = 0.0, Gt = 0.0;
+    for (int k = 0; k < JM_BOX_BINS - 1; k++) { /* the last bin adds exact zeros */
+        const double shi = (k + 1) / (double)c->box_bin * (1.0 + 1e-6), bk = c->box_b[k];
+        M = fmax(M, fabs((double)c->box_a[k]) + bk * (shi + b->E2));
+        Gt = fmax(Gt, bk * sqrt(shi));
+    }
+    b->M = (float)(M * (1.0 + 1e-6));
+    b->Gt = (float)(Gt * (1.0 + 1e-6));
+    b->Rp = JM_BOX_REACH * c->support;
+    b->Rp2 = b->Rp * b->Rp;
+    b->inv2h = 0.5f / c->h;
+    const float *t[3] = {b->xc, b->yc, b->zc};
+    for (int a = 0; a < 3; a++) {
+        b->lo[a] = t[a][0] - b->Rp - c->h;
+        b->hi[a] = t[a][b->nb - 1] + b->Rp + c->h;
+    }
+}
+
+/* particle q's rows of centres within the reach: [*j0, *j1) x [*k0, *k1) */
+static inline int rows_of(const box_setup *b, const float *q, int *j0, int *j1, int *k0, int *k1)
+{
+    if (q[0] < b->lo[0] || q[0] > b->hi[0] || q[1] < b->lo[1] || q[1] > b->hi[1] || q[2] < b->lo[2] || q[2] > b->hi[2])
+        return 0;
+    *k0 = iceil((q[2] - b->Rp - b->zc[0]) * b->inv2h);
+    *k1 = ifloor((q[2] + b->Rp - b->zc[0]) * b->inv2h) + 1;
+    *j0 = iceil((q[1] - b->Rp - b->yc[0]) * b->inv2h);
+    *j1 = ifloor((q[1] + b->Rp - b->yc[0]) * b->inv2h) + 1;
+    *k0 = *k0 < 0 ? 0 : *k0;
+    *j0 = *j0 < 0 ? 0 : *j0;
+    *k1 = *k1 > b->nb ? b->nb : *k1;
+    *j1 = *j1 > b->nb ? b->nb : *j1;
+    return *k0 < *k1 && *j0 < *j1;
+}
+
+/* The accumulators: per row of box centres (bk, bj), L (the lines at s +
+ * E2) and G (w b v, per axis), 16 lanes. */
+typedef struct {
+    float L[LANES][LANES][LANES], G[3][LANES][LANES][LANES];
+    float W[LANES][LANES]; /* the weights of the particles a row got */
+    int m[LANES][LANES];   /* and their count */
+} box_acc;
+
+/* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
+ * its rounding (cull.c, 3b), node i in boxes (i - 1) / 2 and i / 2 of its
+ * axis (clipped to [0, nb)). */
+static void spread(const box_acc *A, const box_setup *b, int n, float *out)
+{
+    float V[LANES][LANES][LANES];
+    const int nb = b->nb, ns = JM_PAD(n);
+    const double u = 0x1p-24, te = (double)b->te[0] + b->te[1] + b->te[2];
+    for (int bk = 0; bk < nb; bk++)
+        for (int bj = 0; bj < nb; bj++) {
+            const double mb = A->m[bk][bj];
+            const float err = (float)(1.02 * u * A->W[bk][bj] * ((mb + 16.0) * b->M + te * (mb + 8.0) * b->Gt) * (1.0 + 1e-6));
+            for (int i = 0; i < LANES; i++) {
+                const float v = A->L[bk][bj][i] - (b->te[0] * fabsf(A->G[0][bk][bj][i]) + b->te[1] * fabsf(A->G[1][bk][bj][i]) +
+                                                   b->te[2] * fabsf(A->G[2][bk][bj][i]));
+                V[bk][bj][i] = v - (err + fabsf(v) * 0x1p-21f);
+            }
+        }
+    /* along x: node 2 b + 1 in box b alone, node 2 b in boxes b - 1 and b */
+    static __thread float X[LANES][LANES][JM_PAD_MAX];
+    for (int bk = 0; bk < nb; bk++)
+        for (int bj = 0; bj < nb; bj++) {
+            const float *v = V[bk][bj];
+            float *r = X[bk][bj];
+            r[0] = v[0];
+            for (int t = 0; t < nb; t++) {
+                r[2 * t + 1] = v[t];
+                if (2 * t + 2 < n) r[2 * t + 2] = t + 1 < nb && v[t + 1] > v[t] ? v[t + 1] : v[t];
+            }
+        }
+    for (int k = 0; k < n; k++) {
+        const int ka = (k - 1) / 2 > 0 ? (k - 1) / 2 : 0, kb = k / 2 < nb - 1 ? k / 2 : nb - 1;
+        for (int j = 0; j < n; j++) {
+            const int ja = (j - 1) / 2 > 0 ? (j - 1) / 2 : 0, jb = j / 2 < nb - 1 ? j / 2 : nb - 1;
+            const float *r0 = X[ka][ja], *r1 = X[ka][jb], *r2 = X[kb][ja], *r3 = X[kb][jb];
+            float *o = out + ((size_t)k * n + j) * ns;
+            for (int i = 0; i < n; i++) {
+                const float a = r0[i] > r1[i] ? r0[i] : r1[i], b2 = r2[i] > r3[i] ? r2[i] : r3[i];
+                o[i] = a > b2 ? a : b2;
+            }
+        }
+    }
+}
+
+/* Every particle of the hood (not isolated, within the setup's box): PREP
+ * once, then ROW(L, G0, G1, G2, vy, vz, dyz2) on each row of box centres
+ * within the reach, whose count and weight sum it adds to. */
+#define BOX_LOOP(PREP, ROW)                                                                                \
+    box_setup b;                                                                                       \
+    setup(c, x, y, z, n, &b);                                                                          \
+    static __thread box_acc A;                                                                         \
+    memset(&A, 0, sizeof A);                                                                           \
+    const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                 \
+    for (size_t k = 0; k < cells; k++)                                                                 \
+        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                       \
+            const float *q = GP(g, p);                                                                 \
+            int j0, j1, k0, k1;                                                                        \
+            if (!rows_of(&b, q, &j0, &j1, &k0, &k1) || g->isolated[p]) continue;                       \
+            const float w = g->weight[p];                                                              \
+            PREP                                                                                       \
+            for (int bk = k0; bk < k1; bk++) {                                                         \
+                const float vz = b.zc[bk] - q[2], dz2 = vz * vz;                                       \
+                if (dz2 >= b.Rp2) continue;                                                            \
+                for (int bj = j0; bj < j1; bj++) {                                                     \
+                    const float vy = b.yc[bj] - q[1], dyz2 = vy * vy + dz2;                            \
+                    if (dyz2 >= b.Rp2) continue;                                                       \
+                    A.W[bk][bj] += w;                                                                  \
+                    A.m[bk][bj]++;                                                                     \
+                    ROW(A.L[bk][bj], A.G[0][bk][bj], A.G[1][bk][bj], A.G[2][bk][bj], vy, vz, dyz2);    \
+                }                                                                                      \
+            }                                                                                          \
+        }                                                                                              \
+    spread(&A, &b, n, out);
+
+#define PREP_C                                                                                             \
+    float dx[LANES], dx2[LANES];                                                                       \
+    for (int i = 0; i < LANES; i++) {                                                                  \
+        dx[i] = b.xc[i] - q[0];                                                                        \
+        dx2[i] = dx[i] * dx[i];                                                                        \
+    }
+#define ROW_C(L, G0, G1, G2, vy, vz, dyz2)                                                                 \
+    for (int i = 0; i < LANES; i++) {                                                                  \
+        const float s = dx2[i] + dyz2, sb = s * c->box_bin;                                            \
+        const int kk = (int)(sb < top ? sb : top);                                                     \
+        const float wb = w * c->box_b[kk];                                                             \
+        L[i] = L[i] + w * (c->box_a[kk] - c->box_b[kk] * (s + b.E2));                                  \
+        G0[i] = G0[i] + wb * dx[i];                                                                    \
+        G1[i] = G1[i] + wb * vy;                                                                       \
+        G2[i] = G2[i] + wb * vz;                                                                       \
+    }
+static void boxes_c(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
+                    const float *z, int n, float *out)
+{
+    const float top = (float)(JM_BOX_BINS - 1);
+    BOX_LOOP(PREP_C, ROW_C)
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+/* The same terms 16 box centres at a time, the lines picked by a permute
+ * from the 32 bins, fused multiply-adds (the bound holds for one rounding
+ * or two, cull.c 3b). */
+#define PREP_AVX512                                                                                        \
+    const __m512 vw = _mm512_set1_ps(w), vE2 = _mm512_set1_ps(b.E2);                                   \
+    const __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(b.xc), _mm512_set1_ps(q[0]));                      \
+    const __m512 dx2 = _mm512_mul_ps(dx, dx);
+#define ROW_AVX512(L, G0, G1, G2, vy, vz, dyz2)                                                            \
+    do {                                                                                               \
+        const __m512 s = _mm512_add_ps(dx2, _mm512_set1_ps(dyz2));                                     \
+        const __m512i kk = _mm512_cvttps_epi32(_mm512_min_ps(_mm512_mul_ps(s, vbin), vtop));           \
+        const __m512 a = _mm512_permutex2var_ps(A0, kk, A1), bb = _mm512_permutex2var_ps(B0, kk, B1);  \
+        const __m512 l = _mm512_fnmadd_ps(bb, _mm512_add_ps(s, vE2), a);                               \
+        const __m512 wb = _mm512_mul_ps(vw, bb);                                                       \
+        _mm512_storeu_ps(L, _mm512_fmadd_ps(vw, l, _mm512_loadu_ps(L)));                               \
+        _mm512_storeu_ps(G0, _mm512_fmadd_ps(wb, dx, _mm512_loadu_ps(G0)));                            \
+        _mm512_storeu_ps(G1, _mm512_fmadd_ps(wb, _mm512_set1_ps(vy), _mm512_loadu_ps(G1)));            \
+        _mm512_storeu_ps(G2, _mm512_fmadd_ps(wb, _mm512_set1_ps(vz), _mm512_loadu_ps(G2)));            \
+    } while (0)
+__attribute__((target("avx512f"))) static void boxes_avx512(const jm_grid *g, const jm_config *c, const jm_hood *hood,
+                                                            const float *x, const float *y, const float *z, int n,
+                                                            float *out)
+{
+    const __m512 A0 = _mm512_loadu_ps(c->box_a), A1 = _mm512_loadu_ps(c->box_a + 16);
+    const __m512 B0 = _mm512_loadu_ps(c->box_b), B1 = _mm512_loadu_ps(c->box_b + 16);
+    const __m512 vbin = _mm512_set1_ps(c->box_bin), vtop = _mm512_set1_ps((float)(JM_BOX_BINS - 1));
+    BOX_LOOP(PREP_AVX512, ROW_AVX512)
+}
+#endif
+
+void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
+                  const float *z, int n, float *out)
+{
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    if (jm_cpu_avx512()) {
+        boxes_avx512(g, c, hood, x, y, z, n, out);
+        return;
+    }
+#endif
+    boxes_c(g, c, hood, x, y, z, n, out);
+}

@@ -1,0 +1,51 @@
+/* inside_boxes.h - SPH nodes proven inside a box of 3 x 3 x 3 nodes at a time: each particle's tangent line at the box's centre node. */
+#ifndef JETMESH_INSIDE_BOXES_H
+#define JETMESH_INSIDE_BOXES_H
+#include "cull.h"
+
+/* The box pass (jm_sph_boxes) runs, instead of the partial sums
+ * (jm_sph_partial), on blocks nine tenths full of fluid or more (the fill of
+ * jm_sph_block_full) when the lattice is fine against the kernel: cube
+ * edge h at most JM_BOX_MAX_H smoothing lengths (the box bound loses about
+ * 4.5 (h / sph_h)^2 of the field at its corners: at h = sph_h / 4 it proves
+ * a uniform interior's nodes by a margin of 0.05 at threshold 0.6, and at
+ * 0.375 sph_h none). Speed only: both passes give lower bounds (cull.c). On
+ * the 1M block it takes 2.2 to 2.5 times less than the partial sums; next
+ * to the surface, where a box's corners lose more, the partial sums prove
+ * more nodes. */
+#define JM_BOX_FILL 0.9
+#define JM_BOX_MAX_H 0.26
+/* Rows of boxes within JM_BOX_REACH of the support radius of a particle
+ * get its terms (0.65 proves no node of the 1M block's interior, 0.7 all;
+ * 0.8 keeps a margin). Speed only: any subset of terms is a bound. */
+#define JM_BOX_REACH 0.8f
+
+/* 1 when the box pass applies to a block with census h and box [lo, hi]. */
+int jm_sph_boxes_apply(const jm_config *c, const jm_hood_census *h, const float lo[3], const float hi[3]);
+
+/* The level above which a node's bound from jm_sph_boxes proves its sample
+ * above the threshold, for the block whose hood's census is h: the
+ * threshold raised by the sample's rounding (the bounds come with their own
+ * rounding taken off, cull.c, 3b); +infinity (nothing proven) when the
+ * threshold is not above 0 or the hood holds 1e5 particles or more. */
+float jm_sph_box_threshold(const jm_config *c, const jm_hood_census *h);
+
+/* Lower bounds into out (laid out as jm_sph_partial's): the lattice's
+ * boxes of 3 x 3 x 3 nodes, corners at even node indices, each get one
+ * bound valid at all their nodes, and each node the best of its boxes' (a
+ * node whose value is above jm_sph_box_threshold samples above the
+ * threshold). n <= 33 (blocks of at most 32 cubes). AVX-512 where the CPU
+ * has it, else plain C (JM_SPLAT_VARIANT builds: plain C): the bound holds
+ * for either rounding. */
+void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
+                  const float *z, int n, float *out);
+
+/* The lines of the box pass, for tests: bin k < JM_BOX_BINS - 1 holds the
+ * tangent of W(sqrt s) at s = (k + 1/2) / JM_BOX_BINS_PER_S lowered by
+ * JM_BOX_LOWER, the last bin the zero line; a[k] - b[k] s with s in units of
+ * sph_h^2 (jm_config's box_a, box_b hold b over sph_h^2, for s in world
+ * units). */
+#define JM_BOX_BINS_PER_S 8.0
+#define JM_BOX_LOWER 1e-4
+void jm_box_lines(float a[JM_BOX_BINS], float b[JM_BOX_BINS], double inv_sph_h2);
+#endif
