@@ -146,7 +146,11 @@ typedef struct {
 /* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
  * its rounding (cull.c, 3b), node i in boxes (i - 1) / 2 and i / 2 of its
  * axis (clipped to [0, nb)). */
-static void spread(const box_acc *A, const box_setup *b, int n, float *out)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+__attribute__((target_clones("avx512f", "default"))) /* the same operations per lane either way */
+#endif
+static void spread(const box_acc *A, const box_setup *b, int n,
+                                                                        float *out)
 {
     float V[LANES][LANES][LANES];
     const int nb = b->nb, ns = JM_PAD(n);
