@@ -148,21 +148,30 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
     const float bx0 = lo[0] - R, bx1 = hi[0] + R, by0 = lo[1] - R, by1 = hi[1] + R, bz0 = lo[2] - R, bz1 = hi[2] + R;
     const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     double U = 0.0, S = 0.0;
-    size_t m = 0, in = 0, all = 0;
-    double wsum = 0.0;
-    /* first the census (the particles within the box: a full block tries no
-     * proof; the hood's count and weights, for jm_sph_partial_threshold) */
-    for (size_t k = 0; k < cells; k++)
-        for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
-            if (g->isolated[p]) continue;
-            const float *q = GP(g, p);
-            in += q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] && q[2] >= lo[2] && q[2] <= hi[2];
-            all++;
-            wsum += g->weight[p];
-        }
+    size_t m = 0, in = 0;
+    /* first the census: the hood's count and weights, for the thresholds,
+     * from its cells' (jm_hood_build); the particles within the box (a full
+     * block tries no proof), from the cells that meet it */
+    int64_t b0[3], b1[3];
+    for (int a = 0; a < 3; a++) {
+        b0[a] = (int64_t)floorf(lo[a] * g->inv_cell) - hood->c0[a];
+        b1[a] = (int64_t)floorf(hi[a] * g->inv_cell) - hood->c0[a];
+        b0[a] = b0[a] < 0 ? 0 : b0[a];
+        b1[a] = b1[a] > hood->n[a] - 1 ? hood->n[a] - 1 : b1[a];
+    }
+    for (int64_t cz = b0[2]; cz <= b1[2]; cz++)
+        for (int64_t cy = b0[1]; cy <= b1[1]; cy++)
+            for (int64_t cx = b0[0]; cx <= b1[0]; cx++) {
+                const size_t k = ((size_t)cz * hood->n[1] + (size_t)cy) * hood->n[0] + (size_t)cx;
+                for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
+                    const float *q = GP(g, p);
+                    in += !g->isolated[p] && q[0] >= lo[0] && q[0] <= hi[0] && q[1] >= lo[1] && q[1] <= hi[1] &&
+                          q[2] >= lo[2] && q[2] <= hi[2];
+                }
+            }
     census->inner = in;
-    census->m = all;
-    census->S = wsum;
+    census->m = hood->live;
+    census->S = hood->wsum;
     if (!open || jm_sph_block_full(c, in, lo, hi)) return 0;
     for (size_t k = 0; k < cells; k++)
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {

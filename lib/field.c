@@ -24,6 +24,8 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
     }
     size_t k = 0;
     hood->particles = 0;
+    hood->live = 0;
+    hood->wsum = 0.0;
     /* the cells holding particles lie within those of the particles'
      * bounds: no lookup outside them (most of a thin jet's hoods) */
     int64_t in_lo[3], in_hi[3];
@@ -43,6 +45,10 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
                     hood->range[2 * k] = g->cell_start[ci];
                     hood->range[2 * k + 1] = g->cell_start[ci + 1];
                     hood->particles += g->cell_start[ci + 1] - g->cell_start[ci];
+                    if (g->cell_live) {
+                        hood->live += g->cell_live[ci];
+                        hood->wsum += g->cell_wsum[ci];
+                    }
                 }
             }
     return 1;

@@ -11,7 +11,9 @@ typedef struct jm_hood {
     int n[3];           /* cells per axis */
     uint32_t *range;    /* 2 per cell: first, end (sorted particle indices) */
     size_t cap;         /* entries allocated (cells) */
-    size_t particles;   /* non-isolated particles in range */
+    size_t particles;   /* particles in range (isolated ones too) */
+    size_t live;        /* sph: the particles not isolated, and */
+    double wsum;        /* their weight sum (the grid's cell_live, cell_wsum) */
     jm_mem *mem;        /* counts range (NULL: uncounted) */
 } jm_hood;
 

@@ -187,6 +187,16 @@ static void sph_cell(void *arg, size_t ci, int worker)
             g->isolated[pi] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, pi, job->range, job->iso2);
         }
     }
+    /* the cell's census (cull.c's hood census adds the cells') */
+    double ws = 0.0;
+    uint32_t live = 0;
+    for (uint32_t i = g->cell_start[ci]; i < end; i++)
+        if (!g->isolated[i]) {
+            ws += g->weight[i];
+            live++;
+        }
+    g->cell_wsum[ci] = ws;
+    g->cell_live[ci] = live;
 }
 
 /* Metasphere links of the particles of cell ci: pass 0 counts them (and
@@ -428,6 +438,8 @@ void jm_grid_free(jm_grid *g, jm_mem *mem)
     jm_free(mem, g->nb_dir, g->nb_count * 4 * sizeof(float));
     free_released(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t), g->rel[3]);
     jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
+    jm_free(mem, g->cell_wsum, (g->ncells ? g->ncells : 1) * sizeof *g->cell_wsum);
+    jm_free(mem, g->cell_live, (g->ncells ? g->ncells : 1) * sizeof *g->cell_live);
     free_released(mem, g->isolated, n, g->rel[2]);
     jm_aniso_free(g, mem);
     if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
@@ -643,7 +655,9 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     job.range = (int)ceilf(iso / c->cell);
     if (c->field == JM_FIELD_SPH) {
         g->weight = grid_alloc(c, mem, (n ? n : 1) * sizeof(float));
-        if (!g->weight) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        g->cell_wsum = jm_alloc(mem, (ncells ? ncells : 1) * sizeof *g->cell_wsum);
+        g->cell_live = jm_alloc(mem, (ncells ? ncells : 1) * sizeof *g->cell_live);
+        if (!g->weight || !g->cell_wsum || !g->cell_live) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         int nt = jm_pool_threads(pool);
         job.soa = jm_calloc(mem, (size_t)nt, sizeof *job.soa);
         job.soa_cap = jm_calloc(mem, (size_t)nt, sizeof *job.soa_cap);

@@ -191,6 +191,8 @@ typedef struct jm_grid {
     size_t nb_count;
     size_t ncells;
     uint32_t *cell_start; /* ncells+1 offsets into pos */
+    double *cell_wsum;    /* sph: per cell, the weight sum of its particles not isolated */
+    uint32_t *cell_live;  /* sph: per cell, their count */
     int32_t *cell_coord;  /* 3 per cell, absolute cell coordinates */
     jm_hashmap cells;     /* key (relative coords) -> cell index */
     int64_t origin[3];    /* cell coordinate of relative zero */
