@@ -43,10 +43,12 @@ static inline int jm_sph_block_full(const jm_config *c, size_t inner, const floa
 #define JM_TAN_A2 0.3073f
 #define JM_TAN_B2 0.1318f
 
-/* What jm_sph_block_outside counts over a block's hood in one pass: the
- * particles (not isolated) within the block's box, and the count and weight
- * sum of all the hood's particles that are not isolated, which bound the
- * partial sums' rounding (jm_sph_partial_threshold). */
+/* What jm_sph_block_outside counts over a block's hood: the particles (not
+ * isolated) within the block's box, from the hood cells that meet it, and
+ * the count and weight sum of all the hood's particles that are not
+ * isolated (its cells' sums, jm_hood_build), which bound the rounding of
+ * the partial sums and samples (jm_sph_partial_threshold,
+ * jm_sph_box_threshold). */
 typedef struct jm_hood_census {
     size_t inner, m;
     double S;
