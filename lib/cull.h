@@ -23,11 +23,17 @@ static inline double jm_cull_kernel(double q)
  * 0.85, 6.3 s at 0.3; the 1M block's 1.01 s and 0.91-0.93 s), as the
  * blocks the surface cuts no longer sample all of their fluid's nodes. */
 #define JM_FULL_FILL 0.3
+/* The anisotropic kernels' exact partial sums (aniso_splat.c) pay only in
+ * blocks nine tenths full: against 0.3, 1 thread, field stage, alternating
+ * runs, the 100k block 267 -> 245 ms, the dam break frame 108 -> 96 ms, the
+ * bunny frame 34 -> 29 ms (0.6 in between; 1.2, no partial sums, 305 ms on
+ * the block). Speed only. */
+#define JM_AN_FULL_FILL 0.9
 static inline int jm_sph_block_full(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
 {
     const double fill = (double)inner * 8.0 * c->r * c->r * c->r;
     const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    return fill >= JM_FULL_FILL * vol;
+    return fill >= (c->aniso ? JM_AN_FULL_FILL : JM_FULL_FILL) * vol;
 }
 
 /* The partial sums' kernel (jm_sph_partial): two tangents of the cubic
