@@ -20,7 +20,7 @@ size_t jm_scratch_bytes(int B)
 {
     size_t n = (size_t)B + 1, nn = n * n * n;
     return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float) +
-           n * n * JM_PAD(n) * sizeof(float) + JM_CULL_SPAN_BYTES(n);
+           n * n * JM_PAD(n) * sizeof(float) + JM_CULL_SPAN_BYTES(n) + jm_box_work_bytes();
 }
 
 int jm_scratch_init(jm_scratch *s, int B)
@@ -38,7 +38,8 @@ int jm_scratch_init(jm_scratch *s, int B)
     s->x = malloc(3 * n * sizeof(float));
     s->part = malloc(n * n * JM_PAD(n) * sizeof *s->part);
     s->span = malloc(JM_CULL_SPAN_BYTES(n));
-    if (!s->f || !s->in || !s->win || !s->pad || !s->rowstate || !s->vt || !s->touched || !s->x || !s->part || !s->span) {
+    s->boxes = malloc(jm_box_work_bytes());
+    if (!s->f || !s->in || !s->win || !s->pad || !s->rowstate || !s->vt || !s->touched || !s->x || !s->part || !s->span || !s->boxes) {
         jm_scratch_free(s);
         return 0;
     }
@@ -67,6 +68,7 @@ void jm_scratch_free(jm_scratch *s)
     jm_mnorm_free(&s->mnorm);
     free(s->part);
     free(s->span);
+    free(s->boxes);
     memset(s, 0, sizeof *s);
 }
 
@@ -375,7 +377,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
         else if (jm_sph_boxes_apply(c, &census, lo, hi)) { /* nine tenths full, fine lattice */
             proof = jm_sph_box_threshold(c, &census);
-            jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
+            jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->boxes, s->part);
         } else {
             proof = jm_sph_partial_threshold(c, &census);
             jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);

@@ -46,6 +46,7 @@ typedef struct jm_scratch {
     jm_mnorm mnorm;           /* metasphere: the vertices' crease normals (metanormal.h) */
     float *part;              /* sph culling: (B+1)^2 * JM_PAD(B+1) partial sums (splat.h) */
     uint8_t *span;            /* sph culling: 2 per node row, the nodes to sample (cull.h) */
+    void *boxes;              /* sph culling: the box pass's work (inside_boxes.h) */
 } jm_scratch;
 
 typedef struct jm_block_set {

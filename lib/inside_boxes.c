@@ -2,6 +2,7 @@
 #include "inside_boxes.h"
 #include "cpu.h"
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
@@ -141,7 +142,10 @@ typedef struct {
     float L[LANES][LANES][LANES], G[3][LANES][LANES][LANES];
     float W[LANES][LANES]; /* the weights of the particles a row got */
     int m[LANES][LANES];   /* and their count */
+    float X[LANES][LANES][JM_PAD_MAX]; /* spread: the bounds along x */
 } box_acc;
+
+size_t jm_box_work_bytes(void) { return sizeof(box_acc); }
 
 /* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
  * its rounding (cull.c, 3b), node i in boxes (i - 1) / 2 and i / 2 of its
@@ -149,7 +153,7 @@ typedef struct {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("avx512f", "default"))) /* the same operations per lane either way */
 #endif
-static void spread(const box_acc *A, const box_setup *b, int n,
+static void spread(box_acc *A, const box_setup *b, int n,
                                                                         float *out)
 {
     float V[LANES][LANES][LANES];
@@ -166,7 +170,7 @@ static void spread(const box_acc *A, const box_setup *b, int n,
             }
         }
     /* along x: node 2 b + 1 in box b alone, node 2 b in boxes b - 1 and b */
-    static __thread float X[LANES][LANES][JM_PAD_MAX];
+    float(*X)[LANES][JM_PAD_MAX] = A->X;
     for (int bk = 0; bk < nb; bk++)
         for (int bj = 0; bj < nb; bj++) {
             const float *v = V[bk][bj];
@@ -197,8 +201,8 @@ static void spread(const box_acc *A, const box_setup *b, int n,
 #define BOX_LOOP(PREP, ROW)                                                                                \
     box_setup b;                                                                                       \
     setup(c, x, y, z, n, &b);                                                                          \
-    static __thread box_acc A;                                                                         \
-    memset(&A, 0, sizeof A);                                                                           \
+    box_acc *A = work;                                                                                 \
+    memset(A, 0, offsetof(box_acc, X));                                                                \
     const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];                                 \
     for (size_t k = 0; k < cells; k++)                                                                 \
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {                       \
@@ -213,13 +217,13 @@ static void spread(const box_acc *A, const box_setup *b, int n,
                 for (int bj = j0; bj < j1; bj++) {                                                     \
                     const float vy = b.yc[bj] - q[1], dyz2 = vy * vy + dz2;                            \
                     if (dyz2 >= b.Rp2) continue;                                                       \
-                    A.W[bk][bj] += w;                                                                  \
-                    A.m[bk][bj]++;                                                                     \
-                    ROW(A.L[bk][bj], A.G[0][bk][bj], A.G[1][bk][bj], A.G[2][bk][bj], vy, vz, dyz2);    \
+                    A->W[bk][bj] += w;                                                                 \
+                    A->m[bk][bj]++;                                                                    \
+                    ROW(A->L[bk][bj], A->G[0][bk][bj], A->G[1][bk][bj], A->G[2][bk][bj], vy, vz, dyz2); \
                 }                                                                                      \
             }                                                                                          \
         }                                                                                              \
-    spread(&A, &b, n, out);
+    spread(A, &b, n, out);
 
 #define PREP_C                                                                                             \
     float dx[LANES], dx2[LANES];                                                                       \
@@ -238,7 +242,7 @@ static void spread(const box_acc *A, const box_setup *b, int n,
         G2[i] = G2[i] + wb * vz;                                                                       \
     }
 static void boxes_c(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
-                    const float *z, int n, float *out)
+                    const float *z, int n, void *work, float *out)
 {
     const float top = (float)(JM_BOX_BINS - 1);
     BOX_LOOP(PREP_C, ROW_C)
@@ -267,7 +271,7 @@ static void boxes_c(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
     } while (0)
 __attribute__((target("avx512f"))) static void boxes_avx512(const jm_grid *g, const jm_config *c, const jm_hood *hood,
                                                             const float *x, const float *y, const float *z, int n,
-                                                            float *out)
+                                                            void *work, float *out)
 {
     const __m512 A0 = _mm512_loadu_ps(c->box_a), A1 = _mm512_loadu_ps(c->box_a + 16);
     const __m512 B0 = _mm512_loadu_ps(c->box_b), B1 = _mm512_loadu_ps(c->box_b + 16);
@@ -277,13 +281,13 @@ __attribute__((target("avx512f"))) static void boxes_avx512(const jm_grid *g, co
 #endif
 
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
-                  const float *z, int n, float *out)
+                  const float *z, int n, void *work, float *out)
 {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     if (jm_cpu_avx512()) {
-        boxes_avx512(g, c, hood, x, y, z, n, out);
+        boxes_avx512(g, c, hood, x, y, z, n, work, out);
         return;
     }
 #endif
-    boxes_c(g, c, hood, x, y, z, n, out);
+    boxes_c(g, c, hood, x, y, z, n, work, out);
 }

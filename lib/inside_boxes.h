@@ -38,7 +38,10 @@ float jm_sph_box_threshold(const jm_config *c, const jm_hood_census *h);
  * has it, else plain C (JM_SPLAT_VARIANT builds: plain C): the bound holds
  * for either rounding. */
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
-                  const float *z, int n, float *out);
+                  const float *z, int n, void *work, float *out);
+/* Bytes of the work buffer jm_sph_boxes takes (a block scratch's, block.c;
+ * suitably aligned for floats). */
+size_t jm_box_work_bytes(void);
 
 /* The lines of the box pass, for tests: bin k < JM_BOX_BINS - 1 holds the
  * tangent of W(sqrt s) at s = (k + 1/2) / JM_BOX_BINS_PER_S lowered by
