@@ -358,9 +358,9 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         out->failed = 1;
         return;
     }
-    jm_hood_census census = {0, 0, 0.0};
-    if (c->cull && (c->aniso ? jm_aniso_block_outside(g, c, &s->an_cand, lo, hi, &census.inner)
-                             : jm_sph_block_outside(g, c, &s->hood, lo, hi, &census))) {
+    size_t inner = 0;
+    if (c->cull && (c->aniso ? jm_aniso_block_outside(g, c, &s->an_cand, lo, hi, &inner)
+                             : jm_sph_block_outside(g, c, &s->hood, lo, hi, &inner))) {
         /* proven to hold no inside node (cull.c): sampling would find none
          * and return here below, with nothing to mesh */
         out->t_field = jm_now_ms() - t0;
@@ -369,17 +369,17 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     size_t fs;
     const float *fv;
     const uint8_t *span = NULL;
-    if (c->cull && jm_sph_block_full(c, census.inner, lo, hi)) {
+    if (c->cull && jm_sph_block_full(c, inner, lo, hi)) {
         /* the SPH field, a block a third full of fluid or more: partial
          * sums prove nodes inside; only the nodes next to the others are
          * sampled (cull.c, aniso_cull.c) */
         float proof = c->threshold;
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
-        else if (jm_sph_boxes_apply(c, &census, lo, hi)) { /* nine tenths full, fine lattice */
-            proof = jm_sph_box_threshold(c, &census);
+        else if (jm_sph_boxes_apply(c, inner, lo, hi)) { /* nine tenths full, fine lattice */
+            proof = jm_sph_box_threshold(c, &s->hood);
             jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->boxes, s->part);
         } else {
-            proof = jm_sph_partial_threshold(c, &census);
+            proof = jm_sph_partial_threshold(c, &s->hood);
             jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
         }
         size_t keep = jm_sph_spans(s->part, n, proof, s->span);

@@ -128,17 +128,15 @@
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
-float jm_sph_partial_threshold(const jm_config *c, const jm_hood_census *h)
+float jm_sph_partial_threshold(const jm_config *c, const jm_hood *h)
 {
-    const double u = 0x1p-24, m = (double)h->m;
+    const double u = 0x1p-24, m = (double)h->live;
     if (!(c->threshold > 0.0f) || m >= 1e5) return INFINITY;
-    const double T = ((double)c->threshold + 64.0 * u * h->S) * (1.0 + 2.5 * (m + 1.0) * u);
-    float t = (float)T;
-    return (double)t < T ? nextafterf(t, INFINITY) : t;
+    return jm_float_up(((double)c->threshold + 64.0 * u * h->wsum) * (1.0 + 2.5 * (m + 1.0) * u));
 }
 
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
-                         const float hi[3], jm_hood_census *census)
+                         const float hi[3], size_t *inner)
 {
     const double thr = c->threshold, sph_h = c->sph_h, Rn = (double)c->support * (1.0 + 1e-5), Rn2 = Rn * Rn;
     int open = thr > 0.0; /* a proof is possible (every node is >= 0) */
@@ -149,9 +147,8 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
     const size_t cells = (size_t)hood->n[0] * hood->n[1] * hood->n[2];
     double U = 0.0, S = 0.0;
     size_t m = 0, in = 0;
-    /* first the census: the hood's count and weights, for the thresholds,
-     * from its cells' (jm_hood_build); the particles within the box (a full
-     * block tries no proof), from the cells that meet it */
+    /* first the particles within the box (a full block tries no proof),
+     * from the hood cells that meet it */
     int64_t b0[3], b1[3];
     for (int a = 0; a < 3; a++) {
         b0[a] = (int64_t)floorf(lo[a] * g->inv_cell) - hood->c0[a];
@@ -169,9 +166,7 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
                           q[2] >= lo[2] && q[2] <= hi[2];
                 }
             }
-    census->inner = in;
-    census->m = hood->live;
-    census->S = hood->wsum;
+    *inner = in;
     if (!open || jm_sph_block_full(c, in, lo, hi)) return 0;
     for (size_t k = 0; k < cells; k++)
         for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {

@@ -2,6 +2,7 @@
 #ifndef JETMESH_CULL_H
 #define JETMESH_CULL_H
 #include "field.h"
+#include <math.h>
 
 /* The cubic spline's shape (1/4)(2-q)^3 - (1-q)^3 (each cube where its
  * base is positive) in double, for the bounds of the culling proofs
@@ -29,11 +30,24 @@ static inline double jm_cull_kernel(double q)
  * bunny frame 34 -> 29 ms (0.6 in between; 1.2, no partial sums, 305 ms on
  * the block). Speed only. */
 #define JM_AN_FULL_FILL 0.9
-static inline int jm_sph_block_full(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
+/* 1 when inner particles at the rest spacing 2r fill the fraction frac of
+ * the box [lo, hi] or more */
+static inline int jm_block_filled(const jm_config *c, size_t inner, const float lo[3], const float hi[3], double frac)
 {
     const double fill = (double)inner * 8.0 * c->r * c->r * c->r;
     const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    return fill >= (c->aniso ? JM_AN_FULL_FILL : JM_FULL_FILL) * vol;
+    return fill >= frac * vol;
+}
+static inline int jm_sph_block_full(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
+{
+    return jm_block_filled(c, inner, lo, hi, c->aniso ? JM_AN_FULL_FILL : JM_FULL_FILL);
+}
+
+/* T as a float at least T (the proofs' levels, cull.c) */
+static inline float jm_float_up(double T)
+{
+    const float t = (float)T;
+    return (double)t < T ? nextafterf(t, INFINITY) : t;
 }
 
 /* The partial sums' kernel (jm_sph_partial): two tangents of the cubic
@@ -49,32 +63,23 @@ static inline int jm_sph_block_full(const jm_config *c, size_t inner, const floa
 #define JM_TAN_A2 0.3073f
 #define JM_TAN_B2 0.1318f
 
-/* What jm_sph_block_outside counts over a block's hood: the particles (not
- * isolated) within the block's box, from the hood cells that meet it, and
- * the count and weight sum of all the hood's particles that are not
- * isolated (its cells' sums, jm_hood_build), which bound the rounding of
- * the partial sums and samples (jm_sph_partial_threshold,
- * jm_sph_box_threshold). */
-typedef struct jm_hood_census {
-    size_t inner, m;
-    double S;
-} jm_hood_census;
-
 /* The level above which a partial sum (jm_sph_partial) proves its node's
- * sample above the threshold, for the block whose hood's census is h: the
- * threshold raised by the rounding of both sums (cull.c, 3); +infinity
- * (nothing proven) when the threshold is not above 0 or the hood holds
- * 1e5 particles or more. */
-float jm_sph_partial_threshold(const jm_config *c, const jm_hood_census *h);
+ * sample above the threshold, for the block of the hood h: the threshold
+ * raised by the rounding of both sums (cull.c, 3), from the count and
+ * weight sum of the hood's particles that are not isolated (h->live,
+ * h->wsum); +infinity (nothing proven) when the threshold is not above 0
+ * or the hood holds 1e5 such particles or more. */
+float jm_sph_partial_threshold(const jm_config *c, const jm_hood *h);
 
 /* 1 when every lattice node of the box [lo, hi] (the block's first and last
  * node coordinates) provably samples at or below the threshold under the
  * isotropic SPH field (splat.c), so the block holds no inside node and no
- * crossing; 0 when that cannot be proven. *census gets the hood's counts
- * (jm_hood_census); a full block (jm_sph_block_full) returns 0 at once.
- * The proof is at the top of cull.c. */
+ * crossing; 0 when that cannot be proven. *inner gets the number of
+ * particles (not isolated) within the box; a full block
+ * (jm_sph_block_full) returns 0 at once. The proof is at the top of
+ * cull.c. */
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
-                         const float hi[3], jm_hood_census *census);
+                         const float hi[3], size_t *inner);
 
 /* Bytes of the span array jm_sph_spans fills for n nodes a side. */
 #define JM_CULL_SPAN_BYTES(n) (2 * (size_t)(n) * (size_t)(n))

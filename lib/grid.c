@@ -142,6 +142,8 @@ static void sph_cell(void *arg, size_t ci, int worker)
         xs[at] = xs[at + 8] = ys[at] = ys[at + 8] = zs[at] = zs[at + 8] = 1e30f;
     }
     const uint32_t end = g->cell_start[ci + 1];
+    double ws = 0.0; /* the cell's census (jm_hood_build adds the cells') */
+    uint32_t live = 0;
     for (uint32_t i = g->cell_start[ci]; i < end; i += 2) {
         /* particles i and i + 1 at once, lanes 0-7 and 8-15 (one 16-lane
          * register where the CPU has them), or i alone: each lane gets the
@@ -185,16 +187,12 @@ static void sph_cell(void *arg, size_t ci, int worker)
             g->weight[pi] = 1.0f / sum; /* sum >= w(0) = 1 */
             /* count includes the particle itself (and any exact duplicates) */
             g->isolated[pi] = job->c->templates && count <= 1 && lonely(g, (uint32_t)ci, pi, job->range, job->iso2);
+            if (!g->isolated[pi]) {
+                ws += g->weight[pi];
+                live++;
+            }
         }
     }
-    /* the cell's census (cull.c's hood census adds the cells') */
-    double ws = 0.0;
-    uint32_t live = 0;
-    for (uint32_t i = g->cell_start[ci]; i < end; i++)
-        if (!g->isolated[i]) {
-            ws += g->weight[i];
-            live++;
-        }
     g->cell_wsum[ci] = ws;
     g->cell_live[ci] = live;
 }

@@ -33,12 +33,9 @@ void jm_box_lines(float a[JM_BOX_BINS], float b[JM_BOX_BINS], double inv_sph_h2)
     }
 }
 
-int jm_sph_boxes_apply(const jm_config *c, const jm_hood_census *h, const float lo[3], const float hi[3])
+int jm_sph_boxes_apply(const jm_config *c, size_t inner, const float lo[3], const float hi[3])
 {
-    if (c->h > JM_BOX_MAX_H * c->sph_h) return 0;
-    const double fill = (double)h->inner * 8.0 * c->r * c->r * c->r;
-    const double vol = (double)(hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-    return fill >= JM_BOX_FILL * vol;
+    return c->h <= JM_BOX_MAX_H * c->sph_h && jm_block_filled(c, inner, lo, hi, JM_BOX_FILL);
 }
 
 /* How far a box's nodes lie from its centre node, per axis: the largest
@@ -61,22 +58,15 @@ static void box_extent(const float *x, const float *y, const float *z, int n, do
 /* E2 >= e0^2 + e1^2 + e2^2 as a float, and the factors 2 e_a */
 static void box_consts(const double e[3], float *E2, float te[3])
 {
-    const double s = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-    *E2 = (float)s;
-    if ((double)*E2 < s) *E2 = nextafterf(*E2, INFINITY);
-    for (int a = 0; a < 3; a++) {
-        te[a] = (float)(2.0 * e[a]);
-        if ((double)te[a] < 2.0 * e[a]) te[a] = nextafterf(te[a], INFINITY);
-    }
+    *E2 = jm_float_up(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    for (int a = 0; a < 3; a++) te[a] = jm_float_up(2.0 * e[a]);
 }
 
-float jm_sph_box_threshold(const jm_config *c, const jm_hood_census *h)
+float jm_sph_box_threshold(const jm_config *c, const jm_hood *h)
 {
-    const double u = 0x1p-24, m = (double)h->m;
+    const double u = 0x1p-24, m = (double)h->live;
     if (!(c->threshold > 0.0f) || m >= 1e5) return INFINITY;
-    const double T = ((double)c->threshold + 26.0 * u * h->S) / (1.0 - m * u);
-    float t = (float)T;
-    return (double)t < T ? nextafterf(t, INFINITY) : t;
+    return jm_float_up(((double)c->threshold + 26.0 * u * h->wsum) / (1.0 - m * u));
 }
 
 /* What both variants share: the centres, the extents, the particles'
@@ -153,8 +143,7 @@ size_t jm_box_work_bytes(void) { return sizeof(box_acc); }
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("avx512f", "default"))) /* the same operations per lane either way */
 #endif
-static void spread(box_acc *A, const box_setup *b, int n,
-                                                                        float *out)
+static void spread(box_acc *A, const box_setup *b, int n, float *out)
 {
     float V[LANES][LANES][LANES];
     const int nb = b->nb, ns = JM_PAD(n);

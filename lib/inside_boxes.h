@@ -20,15 +20,17 @@
  * 0.8 keeps a margin). Speed only: any subset of terms is a bound. */
 #define JM_BOX_REACH 0.8f
 
-/* 1 when the box pass applies to a block with census h and box [lo, hi]. */
-int jm_sph_boxes_apply(const jm_config *c, const jm_hood_census *h, const float lo[3], const float hi[3]);
+/* 1 when the box pass applies to a block whose box [lo, hi] holds inner
+ * particles (not isolated). */
+int jm_sph_boxes_apply(const jm_config *c, size_t inner, const float lo[3], const float hi[3]);
 
 /* The level above which a node's bound from jm_sph_boxes proves its sample
- * above the threshold, for the block whose hood's census is h: the
- * threshold raised by the sample's rounding (the bounds come with their own
- * rounding taken off, cull.c, 3b); +infinity (nothing proven) when the
- * threshold is not above 0 or the hood holds 1e5 particles or more. */
-float jm_sph_box_threshold(const jm_config *c, const jm_hood_census *h);
+ * above the threshold, for the block of the hood h: the threshold raised
+ * by the sample's rounding (the bounds come with their own rounding taken
+ * off, cull.c, 3b), from h->live and h->wsum; +infinity (nothing proven)
+ * when the threshold is not above 0 or the hood holds 1e5 particles not
+ * isolated or more. */
+float jm_sph_box_threshold(const jm_config *c, const jm_hood *h);
 
 /* Lower bounds into out (laid out as jm_sph_partial's): the lattice's
  * boxes of 3 x 3 x 3 nodes, corners at even node indices, each get one
