@@ -63,9 +63,11 @@
  *    a particle's terms cover are speed only.
  * 3b. Nodes proven inside by boxes (inside_boxes.c, jm_sph_box_threshold),
  *    in blocks nine tenths full on a fine lattice, instead of 3. A box is
- *    the nodes x = c + d (up to 3 x 3 x 3) around a centre node c of odd
- *    indices, |d_a| <= e_a (e_a the largest such offset of the block's float
- *    nodes, in double, raised), |d|^2 <= E2 (a float >= e0^2 + e1^2 + e2^2).
+ *    the nodes x = c + d (up to 3 x 3 x 3) around a centre node c: of odd
+ *    index along x (boxes overlap on their end nodes), of index 3 i + 1
+ *    (at most the last node) along y and z (boxes tile), |d_a| <= e_a (e_a
+ *    the largest such offset of the block's float nodes along the axis, in
+ *    double, raised), |d|^2 <= E2 (a float >= e0^2 + e1^2 + e2^2).
  *    Particle p (v = c - q_p, weight w) is at real squared distance s(x) =
  *    |v|^2 + 2 v.d + |d|^2 from node x. Its terms use the line a - b s (b >=
  *    0) of the bin picked from the float s at c (any pick will do): below

@@ -10,7 +10,7 @@
  * 4.5 (h / sph_h)^2 of the field at its corners: at h = sph_h / 4 it proves
  * a uniform interior's nodes by a margin of 0.05 at threshold 0.6, and at
  * 0.375 sph_h none). Speed only: both passes give lower bounds (cull.c). On
- * the 1M block it takes 2.2 to 2.5 times less than the partial sums; next
+ * the 1M block it takes about 3.5 times less than the partial sums; next
  * to the surface, where a box's corners lose more, the partial sums prove
  * more nodes. */
 #define JM_BOX_FILL 0.9
@@ -33,7 +33,8 @@ int jm_sph_boxes_apply(const jm_config *c, size_t inner, const float lo[3], cons
 float jm_sph_box_threshold(const jm_config *c, const jm_hood *h);
 
 /* Lower bounds into out (laid out as jm_sph_partial's): the lattice's
- * boxes of 3 x 3 x 3 nodes, corners at even node indices, each get one
+ * boxes of up to 3 x 3 x 3 nodes (along x from even node index to even,
+ * overlapping; along y and z the nodes 3 i .. 3 i + 2, tiling) each get one
  * bound valid at all their nodes, and each node the best of its boxes' (a
  * node whose value is above jm_sph_box_threshold samples above the
  * threshold). n <= 33 (blocks of at most 32 cubes). AVX-512 where the CPU
