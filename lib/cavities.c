@@ -55,7 +55,7 @@ static inline double volume_term(const float *pa, const float *pb, const float *
 }
 #endif
 
-int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
+int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
                            size_t *ni, double max_volume, uint32_t *roots, size_t *out_removed)
 {
     size_t n = *nv, nt = *ni / 3;
@@ -68,7 +68,7 @@ int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint3
         jm_free(mem, vol, n * sizeof *vol);
         return 0;
     }
-    jm_mesh_pieces(parent, idx, n, nt);
+    jm_mesh_pieces(pool, parent, idx, n, nt);
     /* signed volumes about the first vertex (translation-invariant for a
      * closed shell; near the mesh for precision), summed in triangle order */
     const double o[3] = {pos[0], pos[1], pos[2]};

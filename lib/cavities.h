@@ -11,9 +11,10 @@
  * deterministic). nrm and uv may be NULL. *out_removed gets the number of
  * cavities removed. roots (NULL: none) is an array of *nv entries the pass
  * works in; when nothing was removed it holds each vertex's piece as
- * jm_mesh_pieces gives it (pieces.h), for smoothing to use again. 0 if out
- * of memory (the mesh is then unchanged). */
-int jm_drop_small_cavities(jm_mem *mem, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
+ * jm_mesh_pieces gives it (pieces.h), for smoothing to use again. pool
+ * (NULL: this thread) finds the pieces. 0 if out of memory (the mesh is
+ * then unchanged). */
+int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
                            size_t *ni, double max_volume, uint32_t *roots, size_t *out_removed);
 
 #endif

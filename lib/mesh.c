@@ -713,7 +713,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             job.roots = jm_alloc(mem, nv * sizeof *job.roots);
             if (!job.roots) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
         }
-        if (!jm_drop_small_cavities(mem, ctx->pos, ctx->nrm, ctx->uv, ctx->idx, &nv, &ni,
+        if (!jm_drop_small_cavities(mem, ctx->pool, ctx->pos, ctx->nrm, ctx->uv, ctx->idx, &nv, &ni,
                                     4.0 / 3.0 * M_PI * r3, job.roots, &st->cavities_removed)) {
             s = JM_E_OUT_OF_MEMORY;
             goto out_job;

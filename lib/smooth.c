@@ -800,7 +800,7 @@ jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const 
          * vertex's root comes before it) */
         const uint32_t *roots = m->roots;
         if (!roots) {
-            jm_mesh_pieces(comp, m->idx, nv, ni / 3);
+            jm_mesh_pieces(pool, comp, m->idx, nv, ni / 3);
             roots = comp;
         }
         for (size_t v = 0; v < nv; v++) comp[v] = roots[v] == v ? (uint32_t)ncomp++ : comp[roots[v]];
