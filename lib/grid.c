@@ -102,6 +102,143 @@ static int lonely(const jm_grid *g, uint32_t ci, uint32_t i, int range, float is
     return 1;
 }
 
+/* ---- the build's passes over all particles or cells, on the pool's
+ * threads in chunks; each gives what the serial loop would */
+#define PCH ((size_t)1 << 16) /* particles or cells a task */
+
+/* Validation and bounds: per chunk the box of its particles (in the
+ * library's unit) and the failure of its first bad particle. */
+typedef struct {
+    const char *base;
+    size_t stride, n;
+    float unit;
+    float *box;    /* per chunk: lo[3], hi[3] */
+    jm_status *st; /* per chunk */
+} bound_job;
+
+static void bound_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    bound_job *j = arg;
+    const size_t a = chunk * PCH, b = a + PCH < j->n ? a + PCH : j->n;
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    jm_status st = JM_OK;
+    for (size_t i = a; i < b && st == JM_OK; i++) {
+        float p[3];
+        memcpy(p, j->base + i * j->stride, sizeof p);
+        for (int k = 0; k < 3; k++) {
+            if (!isfinite(p[k])) { st = JM_E_INVALID_PARTICLE; break; }
+            p[k] *= j->unit; /* in the library's unit (units.h) */
+            if (!isfinite(p[k])) { st = JM_E_NUMERIC_DOMAIN; break; } /* |x| / 2^unit past FLT_MAX */
+            if (p[k] < lo[k]) lo[k] = p[k];
+            if (p[k] > hi[k]) hi[k] = p[k];
+        }
+    }
+    memcpy(&j->box[6 * chunk], lo, sizeof lo);
+    memcpy(&j->box[6 * chunk + 3], hi, sizeof hi);
+    j->st[chunk] = st;
+}
+
+/* The particles' box into lo, hi; the first bad particle's failure (in
+ * input order), or JM_OK. */
+static jm_status bound_all(jm_pool *pool, jm_mem *mem, const char *base, size_t stride, size_t n, float unit,
+                           float lo[3], float hi[3])
+{
+    const size_t nch = (n + PCH - 1) / PCH;
+    for (int a = 0; a < 3; a++) lo[a] = INFINITY, hi[a] = -INFINITY;
+    if (!nch) return JM_OK;
+    float *box = jm_alloc(mem, nch * 6 * sizeof *box);
+    jm_status *st = jm_alloc(mem, nch * sizeof *st);
+    jm_status r = JM_OK;
+    if (!box || !st) r = JM_E_OUT_OF_MEMORY;
+    else {
+        bound_job j = {base, stride, n, unit, box, st};
+        jm_pool_run(pool, nch, 1, bound_task, &j);
+        for (size_t k = 0; k < nch && r == JM_OK; k++) {
+            r = st[k];
+            for (int a = 0; a < 3; a++) {
+                if (box[6 * k + a] < lo[a]) lo[a] = box[6 * k + a];
+                if (box[6 * k + 3 + a] > hi[a]) hi[a] = box[6 * k + 3 + a];
+            }
+        }
+    }
+    jm_free(mem, box, nch * 6 * sizeof *box);
+    jm_free(mem, st, nch * sizeof *st);
+    return r;
+}
+
+/* The neighbour search's pair checks: per chunk of cells, each cell's
+ * particles times those of the cells around it (whole numbers: any order
+ * of the sums gives the same total below 2^53, and one far over the
+ * limit above it). */
+typedef struct {
+    const jm_grid *g;
+    double *part; /* per chunk */
+} pair_job;
+
+static void pair_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    pair_job *j = arg;
+    const jm_grid *g = j->g;
+    const size_t a = chunk * PCH, b = a + PCH < g->ncells ? a + PCH : g->ncells;
+    double pairs = 0.0;
+    uint32_t rr[27][2];
+    for (size_t ci = a; ci < b; ci++) {
+        const int nr = near_ranges(g, ci, rr);
+        size_t around = 0;
+        for (int k = 0; k < nr; k++) around += rr[k][1] - rr[k][0];
+        pairs += (double)(g->cell_start[ci + 1] - g->cell_start[ci]) * (double)around;
+    }
+    j->part[chunk] = pairs;
+}
+
+/* Placement: particle k (input order, or order[k]) into the next free
+ * place of its cell, cells filled in input order. On two threads or more,
+ * the first half of the particles fills each cell from its start upwards
+ * and the second half, taken backwards, from its end downwards: each cell
+ * gets the same particles in the same order as from one pass. */
+typedef struct {
+    jm_grid *g;
+    const char *base;
+    size_t stride, n;
+    float unit;
+    const uint32_t *order, *pcell;
+    uint32_t *count; /* 4 a cell: [0] the upward cursor, [1] the downward one */
+} place_job;
+
+static inline uint32_t cell_of(const place_job *j, size_t k, const float p[3])
+{
+    const jm_grid *g = j->g;
+    if (j->pcell) return j->pcell[k];
+    /* the dense index, as the first pass found the cell */
+    size_t d0 = (size_t)((int64_t)floorf(p[0] * g->inv_cell) - g->dense_lo[0]);
+    size_t d1 = (size_t)((int64_t)floorf(p[1] * g->inv_cell) - g->dense_lo[1]);
+    size_t d2 = (size_t)((int64_t)floorf(p[2] * g->inv_cell) - g->dense_lo[2]);
+    return g->dense[(d2 * (size_t)g->dense_n[1] + d1) * (size_t)g->dense_n[0] + d0];
+}
+
+static void place_task(void *arg, size_t half, int worker)
+{
+    (void)worker;
+    place_job *j = arg;
+    const size_t h = half == 2 ? j->n : j->n / 2; /* 2: all of them, upwards */
+    if (half != 1)
+        for (size_t k = 0; k < h; k++) {
+            float p[3];
+            load_units(p, j->base + (size_t)(j->order ? j->order[k] : k) * j->stride, j->unit);
+            const uint32_t ci = cell_of(j, k, p);
+            memcpy(GP(j->g, j->count[4 * ci]++), p, sizeof p);
+        }
+    else
+        for (size_t k = j->n; k-- > h;) {
+            float p[3];
+            load_units(p, j->base + (size_t)(j->order ? j->order[k] : k) * j->stride, j->unit);
+            const uint32_t ci = cell_of(j, k, p);
+            memcpy(GP(j->g, --j->count[4 * ci + 1]), p, sizeof p);
+        }
+}
+
 /* Densities: the neighbours of a cell are copied once into structure-of-
  * arrays form (padded to 8 with far-away points), then each particle sums
  * its kernel over them in 8 lanes added in a fixed order. */
@@ -467,17 +604,10 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     const char *base = (const char *)in->xyz;
 
     /* validate and bound */
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < n; i++) {
-        float p[3];
-        memcpy(p, base + i * stride, sizeof p);
-        for (int a = 0; a < 3; a++) {
-            if (!isfinite(p[a])) return JM_E_INVALID_PARTICLE;
-            p[a] *= c->unit_in; /* in the library's unit (units.h) */
-            if (!isfinite(p[a])) return JM_E_NUMERIC_DOMAIN; /* |x| / 2^unit past FLT_MAX */
-            if (p[a] < lo[a]) lo[a] = p[a];
-            if (p[a] > hi[a]) hi[a] = p[a];
-        }
+    float lo[3], hi[3];
+    {
+        const jm_status vs = bound_all(pool, mem, base, stride, n, c->unit_in, lo, hi);
+        if (vs != JM_OK) return vs;
     }
     for (int a = 0; a < 3; a++) {
         /* lattice node coordinates must stay within +-2^30 cubes */
@@ -607,19 +737,14 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         for (int a = 0; a < 3; a++) g->cell_coord[3 * ci + a] = (int32_t)count[4 * ci + 1 + a];
     }
     g->cell_start[ncells] = acc;
-    for (size_t k = 0; k < n; k++) {
-        float p[3];
-        load_units(p, base + (size_t)(order ? order[k] : k) * stride, c->unit_in);
-        uint32_t ci;
-        if (pcell) {
-            ci = pcell[k];
-        } else { /* the dense index, as the first pass found the cell */
-            size_t d0 = (size_t)((int64_t)floorf(p[0] * g->inv_cell) - g->dense_lo[0]);
-            size_t d1 = (size_t)((int64_t)floorf(p[1] * g->inv_cell) - g->dense_lo[1]);
-            size_t d2 = (size_t)((int64_t)floorf(p[2] * g->inv_cell) - g->dense_lo[2]);
-            ci = g->dense[(d2 * (size_t)g->dense_n[1] + d1) * (size_t)g->dense_n[0] + d0];
+    {
+        place_job pj = {g, base, stride, n, c->unit_in, order, pcell, count};
+        if (jm_pool_threads(pool) >= 2 && n >= 2 * PCH) {
+            for (size_t ci = 0; ci < ncells; ci++) count[4 * ci + 1] = g->cell_start[ci + 1]; /* coordinates copied */
+            jm_pool_run(pool, 2, 1, place_task, &pj);
+        } else {
+            place_task(&pj, 2, 0);
         }
-        memcpy(GP(g, count[4 * ci]++), p, sizeof p);
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);
     count = NULL;
@@ -633,14 +758,13 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
      * when that is beyond JM_MAX_PAIR_CHECKS (a frame of duplicates, or a
      * radius far too large, would otherwise take hours) */
     {
-        double pairs = 0.0;
-        uint32_t rr[27][2];
-        for (size_t ci = 0; ci < ncells; ci++) {
-            int nr = near_ranges(g, ci, rr);
-            size_t around = 0;
-            for (int k = 0; k < nr; k++) around += rr[k][1] - rr[k][0];
-            pairs += (double)(g->cell_start[ci + 1] - g->cell_start[ci]) * (double)around;
-        }
+        const size_t nch = (ncells + PCH - 1) / PCH;
+        double *part = jm_alloc(mem, (nch ? nch : 1) * sizeof *part), pairs = 0.0;
+        if (!part) { st = JM_E_OUT_OF_MEMORY; goto fail; }
+        pair_job pj = {g, part};
+        jm_pool_run(pool, nch, 1, pair_task, &pj);
+        for (size_t k = 0; k < nch; k++) pairs += part[k];
+        jm_free(mem, part, (nch ? nch : 1) * sizeof *part);
         if (pairs > JM_MAX_PAIR_CHECKS(n)) { st = JM_E_TOO_DENSE; goto fail; }
     }
 
