@@ -283,10 +283,7 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
         }
         jm_sph_gather(g, c, &s->hood, plo, phi, &s->soa);
         if (s->soa.n == SIZE_MAX) return 0;
-        for (uint32_t k = start[q]; k < start[q + 1]; k++) {
-            uint32_t v = s->order[k];
-            jm_sph_normal(c, &s->soa, &out->pos[3 * v], &out->nrm[3 * v]);
-        }
+        jm_sph_normals(c, &s->soa, s->order + start[q], start[q + 1] - start[q], out->pos, out->nrm);
     }
     return 1;
 }

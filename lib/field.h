@@ -88,6 +88,11 @@ void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
 /* SPH outward unit normal at p from the gathered particles; 0 if the
  * gradient vanishes (nrm untouched). */
 int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3]);
+/* jm_sph_normal for the count vertices idx[] (positions pos, normals into
+ * nrm, 3 floats a vertex), two at a time in one AVX-512 register where the
+ * CPU has them: the same bits. */
+void jm_sph_normals(const jm_config *c, const jm_soa *s, const uint32_t *idx, size_t count, const float *pos,
+                    float *nrm);
 
 /* Metasphere primitive id: a sorted particle index (its ball) or n + e for
  * the half-neck of link e. Returns its value at p; out (may be NULL) gets its

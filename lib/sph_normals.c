@@ -1,5 +1,6 @@
 /* sph_normals.c - SPH normals: the particles near a part of a block gathered in groups of 8 (only the hood's cells that can hold them visited) and the gradient summed over them. */
 #include "field.h"
+#include "cpu.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -86,4 +87,57 @@ JM_CLONES_AVX2 int jm_sph_normal(const jm_config *c, const jm_soa *s, const floa
         }
     }
     return jm_normal_from_lanes8(gx, gy, gz, nrm);
+}
+
+#include "pair16.h"
+#ifdef JM_PAIR16
+/* Lanes 0-7 vertex p, lanes 8-15 vertex q, each group of 8 particles in
+ * both halves: every lane does what lane l of jm_sph_normal does, the same
+ * IEEE operations (no FMA) in the same order; a lane out of the support
+ * adds k = 0 times its offset, a zero, as there (sums are never -0). */
+__attribute__((target("avx512f"))) static void normal2_avx512(const jm_config *c, const jm_soa *s, const float p[3],
+                                                             const float q[3], float np[3], float nq[3])
+{
+    const __m512 px = jm_pair16_set(p[0], q[0]), py = jm_pair16_set(p[1], q[1]), pz = jm_pair16_set(p[2], q[2]);
+    const __m512 zero = _mm512_setzero_ps(), two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f);
+    const __m512 c075 = _mm512_set1_ps(-0.75f), c3 = _mm512_set1_ps(3.0f);
+    const __m512 R2 = _mm512_set1_ps(c->support * c->support), inv = _mm512_set1_ps(1.0f / c->sph_h);
+    __m512 gx = zero, gy = zero, gz = zero;
+    const size_t groups = (s->n + 7) / 8;
+    for (size_t gi = 0; gi < groups; gi++) {
+        const float *b = s->buf + 32 * gi;
+        const __m512 dx = _mm512_sub_ps(px, jm_pair16_load8(b)), dy = _mm512_sub_ps(py, jm_pair16_load8(b + 8));
+        const __m512 dz = _mm512_sub_ps(pz, jm_pair16_load8(b + 16));
+        const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
+        const __mmask16 in = _mm512_cmp_ps_mask(d2, R2, _CMP_LT_OQ) & _mm512_cmp_ps_mask(d2, zero, _CMP_GT_OQ);
+        if (!in) continue;
+        const __m512 d = _mm512_sqrt_ps(d2), qq = _mm512_mul_ps(d, inv);
+        /* jm_cubic_dw: -0.75 a a + 3 b b, a = max(2 - q, 0), b = max(1 - q, 0) */
+        const __m512 A = _mm512_max_ps(_mm512_sub_ps(two, qq), zero), B = _mm512_max_ps(_mm512_sub_ps(one, qq), zero);
+        const __m512 dw = _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(c075, A), A), _mm512_mul_ps(_mm512_mul_ps(c3, B), B));
+        const __m512 k = _mm512_maskz_div_ps(in, _mm512_mul_ps(jm_pair16_load8(b + 24), dw), d);
+        gx = _mm512_add_ps(gx, _mm512_mul_ps(k, dx));
+        gy = _mm512_add_ps(gy, _mm512_mul_ps(k, dy));
+        gz = _mm512_add_ps(gz, _mm512_mul_ps(k, dz));
+    }
+    float sx[16], sy[16], sz[16];
+    _mm512_storeu_ps(sx, gx);
+    _mm512_storeu_ps(sy, gy);
+    _mm512_storeu_ps(sz, gz);
+    jm_normal_from_lanes8(sx, sy, sz, np);
+    jm_normal_from_lanes8(sx + 8, sy + 8, sz + 8, nq);
+}
+#endif
+
+void jm_sph_normals(const jm_config *c, const jm_soa *s, const uint32_t *idx, size_t count, const float *pos,
+                    float *nrm)
+{
+    size_t k = 0;
+#ifdef JM_PAIR16
+    if (jm_cpu_avx512())
+        for (; k + 1 < count; k += 2)
+            normal2_avx512(c, s, &pos[3 * (size_t)idx[k]], &pos[3 * (size_t)idx[k + 1]], &nrm[3 * (size_t)idx[k]],
+                           &nrm[3 * (size_t)idx[k + 1]]);
+#endif
+    for (; k < count; k++) jm_sph_normal(c, s, &pos[3 * (size_t)idx[k]], &nrm[3 * (size_t)idx[k]]);
 }
