@@ -8,7 +8,8 @@
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
 /* The normal loop is built twice, for AVX2 machines and for any x86-64
- * (JM_CLONES_AVX2, internal.h): the same bits. */
+ * (JM_CLONES_AVX2, internal.h), and where the CPU has AVX-512 two vertices
+ * share one register (jm_sph_normals): the same bits. */
 
 /* The hood's cells (their index range along axis a, from 0) that can hold
  * a particle within [lo - R, hi + R]: a particle at x lies in the grid's
