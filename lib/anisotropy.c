@@ -106,6 +106,15 @@ typedef struct an_job {
     int failed;
 } an_job;
 
+/* The sorted particles [from, from + n) into the neighbourhood's arrays at to. */
+static void copy_run(const an_job *job, float *xs, float *ys, float *zs, size_t to, uint32_t from, uint32_t n)
+{
+    if (!n) return;
+    memcpy(xs + to, job->X + from, n * sizeof *xs);
+    memcpy(ys + to, job->Y + from, n * sizeof *ys);
+    memcpy(zs + to, job->Z + from, n * sizeof *zs);
+}
+
 /* The neighbourhoods of the particles of cell ci: the candidates of the
  * cells around are copied once into structure-of-arrays form (padded to 8
  * with far-away points), then the particles sum over them (aniso_moments.h),
@@ -125,6 +134,10 @@ static void an_cell(void *arg, size_t ci, int worker)
         size_t t = 0;
         int e = 0;
         float *xs = job->soa[worker], *ys = xs + job->soa_cap[worker], *zs = ys + job->soa_cap[worker];
+        /* pass 1 copies runs: cells whose particles follow each other in
+         * the sorted arrays (neighbours along x, in key order) at once */
+        size_t run_to = 0;
+        uint32_t run_from = 0, run_n = 0;
         for (int dz = -rg; dz <= rg; dz++)
             for (int dy = -rg; dy <= rg; dy++)
                 for (int dx = -rg; dx <= rg; dx++, e++) {
@@ -134,12 +147,18 @@ static void an_cell(void *arg, size_t ci, int worker)
                     if (nc == UINT32_MAX) continue;
                     const uint32_t j0 = g->cell_start[nc], k = g->cell_start[nc + 1] - j0;
                     if (pass == 1) {
-                        memcpy(xs + t, job->X + j0, k * sizeof *xs);
-                        memcpy(ys + t, job->Y + j0, k * sizeof *ys);
-                        memcpy(zs + t, job->Z + j0, k * sizeof *zs);
+                        if (run_n && j0 == run_from + run_n) {
+                            run_n += k;
+                        } else {
+                            copy_run(job, xs, ys, zs, run_to, run_from, run_n);
+                            run_to = t;
+                            run_from = j0;
+                            run_n = k;
+                        }
                     }
                     t += k;
                 }
+        if (pass == 1) copy_run(job, xs, ys, zs, run_to, run_from, run_n);
         if (pass == 0) {
             m = t;
             size_t cap = (m + 7) & ~(size_t)7;
