@@ -100,8 +100,7 @@ __attribute__((target("avx512f"))) static void normal2_avx512(const jm_config *c
                                                              const float q[3], float np[3], float nq[3])
 {
     const __m512 px = jm_pair16_set(p[0], q[0]), py = jm_pair16_set(p[1], q[1]), pz = jm_pair16_set(p[2], q[2]);
-    const __m512 zero = _mm512_setzero_ps(), two = _mm512_set1_ps(2.0f), one = _mm512_set1_ps(1.0f);
-    const __m512 c075 = _mm512_set1_ps(-0.75f), c3 = _mm512_set1_ps(3.0f);
+    const __m512 zero = _mm512_setzero_ps();
     const __m512 R2 = _mm512_set1_ps(c->support * c->support), inv = _mm512_set1_ps(1.0f / c->sph_h);
     __m512 gx = zero, gy = zero, gz = zero;
     const size_t groups = (s->n + 7) / 8;
@@ -112,21 +111,13 @@ __attribute__((target("avx512f"))) static void normal2_avx512(const jm_config *c
         const __m512 d2 = _mm512_add_ps(_mm512_add_ps(_mm512_mul_ps(dx, dx), _mm512_mul_ps(dy, dy)), _mm512_mul_ps(dz, dz));
         const __mmask16 in = _mm512_cmp_ps_mask(d2, R2, _CMP_LT_OQ) & _mm512_cmp_ps_mask(d2, zero, _CMP_GT_OQ);
         if (!in) continue;
-        const __m512 d = _mm512_sqrt_ps(d2), qq = _mm512_mul_ps(d, inv);
-        /* jm_cubic_dw: -0.75 a a + 3 b b, a = max(2 - q, 0), b = max(1 - q, 0) */
-        const __m512 A = _mm512_max_ps(_mm512_sub_ps(two, qq), zero), B = _mm512_max_ps(_mm512_sub_ps(one, qq), zero);
-        const __m512 dw = _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(c075, A), A), _mm512_mul_ps(_mm512_mul_ps(c3, B), B));
+        const __m512 d = _mm512_sqrt_ps(d2), dw = jm_pair16_cubic_dw(_mm512_mul_ps(d, inv));
         const __m512 k = _mm512_maskz_div_ps(in, _mm512_mul_ps(jm_pair16_load8(b + 24), dw), d);
         gx = _mm512_add_ps(gx, _mm512_mul_ps(k, dx));
         gy = _mm512_add_ps(gy, _mm512_mul_ps(k, dy));
         gz = _mm512_add_ps(gz, _mm512_mul_ps(k, dz));
     }
-    float sx[16], sy[16], sz[16];
-    _mm512_storeu_ps(sx, gx);
-    _mm512_storeu_ps(sy, gy);
-    _mm512_storeu_ps(sz, gz);
-    jm_normal_from_lanes8(sx, sy, sz, np);
-    jm_normal_from_lanes8(sx + 8, sy + 8, sz + 8, nq);
+    jm_pair16_normals(gx, gy, gz, np, nq);
 }
 #endif
 
