@@ -151,16 +151,11 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
     size_t m = 0, in = 0;
     /* first the particles within the box (a full block tries no proof),
      * from the hood cells that meet it */
-    int64_t b0[3], b1[3];
-    for (int a = 0; a < 3; a++) {
-        b0[a] = (int64_t)floorf(lo[a] * g->inv_cell) - hood->c0[a];
-        b1[a] = (int64_t)floorf(hi[a] * g->inv_cell) - hood->c0[a];
-        b0[a] = b0[a] < 0 ? 0 : b0[a];
-        b1[a] = b1[a] > hood->n[a] - 1 ? hood->n[a] - 1 : b1[a];
-    }
-    for (int64_t cz = b0[2]; cz <= b1[2]; cz++)
-        for (int64_t cy = b0[1]; cy <= b1[1]; cy++)
-            for (int64_t cx = b0[0]; cx <= b1[0]; cx++) {
+    int b0[3], b1[3];
+    for (int a = 0; a < 3; a++) jm_hood_cell_span(g, hood, a, lo[a], hi[a], 0.0f, &b0[a], &b1[a]);
+    for (int cz = b0[2]; cz <= b1[2]; cz++)
+        for (int cy = b0[1]; cy <= b1[1]; cy++)
+            for (int cx = b0[0]; cx <= b1[0]; cx++) {
                 const size_t k = ((size_t)cz * hood->n[1] + (size_t)cy) * hood->n[0] + (size_t)cx;
                 for (uint32_t p = hood->range[2 * k]; p < hood->range[2 * k + 1]; p++) {
                     const float *q = GP(g, p);

@@ -56,6 +56,21 @@ static inline int64_t jm_hood_cell_lo(const jm_grid *g, const jm_config *c, floa
     return (int64_t)floorf((lo - c->influence) * g->inv_cell) - 1;
 }
 
+/* The hood's cells (their index range [*c0, *c1] along axis a, from 0)
+ * that can hold a particle within [lo - R, hi + R]: a particle at x lies in
+ * the grid's cell floor(x / cell) (grid.c), so a 64th of R more on each
+ * side is far more than rounding can move a boundary (R = 0: the cells
+ * that meet [lo, hi]). */
+static inline void jm_hood_cell_span(const jm_grid *g, const jm_hood *hood, int a, float lo, float hi, float R,
+                                     int *c0, int *c1)
+{
+    const float m = R + R * (1.0f / 64.0f);
+    const int64_t l = (int64_t)floorf((lo - m) * g->inv_cell) - hood->c0[a];
+    const int64_t h = (int64_t)floorf((hi + m) * g->inv_cell) - hood->c0[a];
+    *c0 = l < 0 ? 0 : (int)l;
+    *c1 = h >= hood->n[a] ? hood->n[a] - 1 : (int)h;
+}
+
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 

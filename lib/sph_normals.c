@@ -11,19 +11,6 @@
  * (JM_CLONES_AVX2, internal.h), and where the CPU has AVX-512 two vertices
  * share one register (jm_sph_normals): the same bits. */
 
-/* The hood's cells (their index range along axis a, from 0) that can hold
- * a particle within [lo - R, hi + R]: a particle at x lies in the grid's
- * cell floor(x / cell) (grid.c), so a 64th of R more on each side is far
- * more than rounding can move a boundary. */
-static void cell_span(const jm_grid *g, const jm_hood *hood, int a, float lo, float hi, float R, int *c0, int *c1)
-{
-    const float m = R + R * (1.0f / 64.0f);
-    int64_t l = (int64_t)floorf((lo - m) * g->inv_cell) - hood->c0[a];
-    int64_t h = (int64_t)floorf((hi + m) * g->inv_cell) - hood->c0[a];
-    *c0 = l < 0 ? 0 : (int)l;
-    *c1 = h >= hood->n[a] ? hood->n[a] - 1 : (int)h;
-}
-
 /* Only the hood's cells that can hold a particle of the box are visited, in
  * the hood's order: the same particles in the same order as a visit of
  * every cell. */
@@ -32,9 +19,9 @@ void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
 {
     const float R = c->support;
     int x0, x1, y0, y1, z0, z1;
-    cell_span(g, hood, 0, lo[0], hi[0], R, &x0, &x1);
-    cell_span(g, hood, 1, lo[1], hi[1], R, &y0, &y1);
-    cell_span(g, hood, 2, lo[2], hi[2], R, &z0, &z1);
+    jm_hood_cell_span(g, hood, 0, lo[0], hi[0], R, &x0, &x1);
+    jm_hood_cell_span(g, hood, 1, lo[1], hi[1], R, &y0, &y1);
+    jm_hood_cell_span(g, hood, 2, lo[2], hi[2], R, &z0, &z1);
     out->n = 0;
     for (int z = z0; z <= z1; z++)
         for (int y = y0; y <= y1; y++)
