@@ -102,6 +102,17 @@ static int lonely(const jm_grid *g, uint32_t ci, uint32_t i, int range, float is
     return 1;
 }
 
+/* The dense index's entry of the cell holding p (in the library's unit;
+ * within the particles' box, which the index covers: floorf is monotone
+ * and the box bounds p). */
+static inline uint32_t *dense_slot(const jm_grid *g, const float p[3])
+{
+    const size_t d0 = (size_t)((int64_t)floorf(p[0] * g->inv_cell) - g->dense_lo[0]);
+    const size_t d1 = (size_t)((int64_t)floorf(p[1] * g->inv_cell) - g->dense_lo[1]);
+    const size_t d2 = (size_t)((int64_t)floorf(p[2] * g->inv_cell) - g->dense_lo[2]);
+    return &g->dense[(d2 * (size_t)g->dense_n[1] + d1) * (size_t)g->dense_n[0] + d0];
+}
+
 /* ---- the build's passes over all particles or cells, on the pool's
  * threads in chunks; each gives what the serial loop would */
 #define PCH ((size_t)1 << 16) /* particles or cells a task */
@@ -207,36 +218,25 @@ typedef struct {
     uint32_t *count; /* 4 a cell: [0] the upward cursor, [1] the downward one */
 } place_job;
 
-static inline uint32_t cell_of(const place_job *j, size_t k, const float p[3])
+/* particle k into its cell: at the upward cursor (up) or below the downward one */
+static inline void place_one(const place_job *j, size_t k, int up)
 {
-    const jm_grid *g = j->g;
-    if (j->pcell) return j->pcell[k];
-    /* the dense index, as the first pass found the cell */
-    size_t d0 = (size_t)((int64_t)floorf(p[0] * g->inv_cell) - g->dense_lo[0]);
-    size_t d1 = (size_t)((int64_t)floorf(p[1] * g->inv_cell) - g->dense_lo[1]);
-    size_t d2 = (size_t)((int64_t)floorf(p[2] * g->inv_cell) - g->dense_lo[2]);
-    return g->dense[(d2 * (size_t)g->dense_n[1] + d1) * (size_t)g->dense_n[0] + d0];
+    float p[3];
+    load_units(p, j->base + (size_t)(j->order ? j->order[k] : k) * j->stride, j->unit);
+    /* its cell, as the first pass found it */
+    const uint32_t ci = j->pcell ? j->pcell[k] : *dense_slot(j->g, p);
+    memcpy(GP(j->g, up ? j->count[4 * ci]++ : --j->count[4 * ci + 1]), p, sizeof p);
 }
 
+/* half 0: the first half upwards; 1: the second half downwards, backwards */
 static void place_task(void *arg, size_t half, int worker)
 {
     (void)worker;
-    place_job *j = arg;
-    const size_t h = half == 2 ? j->n : j->n / 2; /* 2: all of them, upwards */
-    if (half != 1)
-        for (size_t k = 0; k < h; k++) {
-            float p[3];
-            load_units(p, j->base + (size_t)(j->order ? j->order[k] : k) * j->stride, j->unit);
-            const uint32_t ci = cell_of(j, k, p);
-            memcpy(GP(j->g, j->count[4 * ci]++), p, sizeof p);
-        }
+    const place_job *j = arg;
+    if (half == 0)
+        for (size_t k = 0; k < j->n / 2; k++) place_one(j, k, 1);
     else
-        for (size_t k = j->n; k-- > h;) {
-            float p[3];
-            load_units(p, j->base + (size_t)(j->order ? j->order[k] : k) * j->stride, j->unit);
-            const uint32_t ci = cell_of(j, k, p);
-            memcpy(GP(j->g, --j->count[4 * ci + 1]), p, sizeof p);
-        }
+        for (size_t k = j->n; k-- > j->n / 2;) place_one(j, k, 0);
 }
 
 /* Densities: the neighbours of a cell are copied once into structure-of-
@@ -677,10 +677,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         int64_t cz = (int64_t)floorf(p[2] * g->inv_cell) - g->origin[2];
         uint32_t *v;
         if (g->dense) {
-            /* within the box: floorf is monotone and lo, hi bound p */
-            int64_t d[3] = {cx + g->origin[0] - g->dense_lo[0], cy + g->origin[1] - g->dense_lo[1],
-                            cz + g->origin[2] - g->dense_lo[2]};
-            v = &g->dense[((size_t)d[2] * (size_t)g->dense_n[1] + (size_t)d[1]) * (size_t)g->dense_n[0] + (size_t)d[0]];
+            v = dense_slot(g, p);
         } else {
             if (g->cells.count * 2 + 2 > g->cells.cap) {
                 /* rehash into a bigger table */
@@ -743,7 +740,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             for (size_t ci = 0; ci < ncells; ci++) count[4 * ci + 1] = g->cell_start[ci + 1]; /* coordinates copied */
             jm_pool_run(pool, 2, 1, place_task, &pj);
         } else {
-            place_task(&pj, 2, 0);
+            for (size_t k = 0; k < n; k++) place_one(&pj, k, 1);
         }
     }
     jm_free(mem, count, count_cap * 4 * sizeof *count);

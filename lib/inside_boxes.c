@@ -82,7 +82,7 @@ typedef struct {
     float xc[LANES], yc[ROWS], zc[ROWS];
     float E2, te[3];
     float lo[3], hi[3];            /* particles outside add to no row */
-    float Rp, Rp2, inv2h, inv3h;
+    float Rp, Rp2, inv3h;
     float M, Gt;                   /* |a - b (s + E2)| and |b v_a| for any term (cull.c, 3b) */
 } box_setup;
 
@@ -108,7 +108,6 @@ static void setup(const jm_config *c, const float *x, const float *y, const floa
     b->Gt = (float)(Gt * (1.0 + 1e-6));
     b->Rp = JM_BOX_REACH * c->support;
     b->Rp2 = b->Rp * b->Rp;
-    b->inv2h = 0.5f / c->h;
     b->inv3h = 1.0f / (3.0f * c->h);
     b->lo[0] = b->xc[0] - b->Rp - c->h;
     b->hi[0] = b->xc[b->nb - 1] + b->Rp + c->h;

@@ -1,8 +1,9 @@
 /* pieces.c - the connected pieces of a triangle mesh, by union-find: each vertex's root is the smallest vertex of its piece. */
 #include "pieces.h"
 
-/* Below this many triangles, or on one thread, the plain union-find. */
-#define PIECE_CHUNK ((size_t)1 << 16) /* triangles or vertices a task */
+/* Triangles or vertices a task; below two chunks of triangles, or on one
+ * thread, the plain union-find. */
+#define PIECE_CHUNK ((size_t)1 << 16)
 
 static uint32_t find(uint32_t *p, uint32_t x)
 {
