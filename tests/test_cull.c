@@ -14,6 +14,7 @@
 #include "../lib/inside_boxes.h"
 #include "../lib/splat.h"
 #include "util/cull_check.h"
+#include "util/lattice.h"
 
 /* Culled (1 and 2 threads) against every node sampled: the same bytes.
  * Variants: the reference case (cube r/2, threshold 0.6), then a coarser
@@ -116,20 +117,9 @@ static void test_box_bounds_hold(void **state)
     (void)state;
     const int S = 40; /* sites a side, spacing 2r, jittered by up to 0.1 r (as the block scene) */
     const float r = 0.025f;
-    float *xyz = malloc((size_t)S * S * S * 3 * sizeof *xyz);
+    const size_t np = (size_t)S * S * S;
+    float *xyz = test_lattice(S, 2.0f * r, 0.2f * r, 12345u, 0);
     assert_non_null(xyz);
-    uint32_t seed = 12345u;
-    size_t np = 0;
-    for (int k = 0; k < S; k++)
-        for (int j = 0; j < S; j++)
-            for (int i = 0; i < S; i++) {
-                const int ijk[3] = {i, j, k};
-                for (int a = 0; a < 3; a++) {
-                    seed = seed * 1664525u + 1013904223u;
-                    xyz[3 * np + a] = 2.0f * r * (float)ijk[a] + 0.2f * r * ((float)(seed >> 8) / 16777216.0f - 0.5f);
-                }
-                np++;
-            }
     jm_params p = {0};
     p.radius = r;
     p.field = JM_FIELD_SPH;

@@ -11,6 +11,7 @@
 
 #include "../lib/jetmesh.h"
 #include "../lib/grid.h"
+#include "util/lattice.h"
 
 /* A jittered lattice of S^3 particles at spacing 2r (r = 0.025): its box
  * of grid cells (edge 4r for SPH, wider for the metasphere) holds fewer cells
@@ -25,21 +26,8 @@
 
 static float *lattice(size_t extra)
 {
-    float *xyz = malloc(3 * ((size_t)S * S * S + extra) * sizeof *xyz);
+    float *xyz = test_lattice(S, 0.05f, 0.01f, 12345u, extra);
     assert_non_null(xyz);
-    uint32_t seed = 12345u;
-    size_t k = 0;
-    for (int z = 0; z < S; z++)
-        for (int y = 0; y < S; y++)
-            for (int x = 0; x < S; x++) {
-                const int c[3] = {x, y, z};
-                for (int a = 0; a < 3; a++) {
-                    seed = seed * 1664525u + 1013904223u;
-                    float jitter = ((float)(seed >> 8) / 16777216.0f - 0.5f) * 0.01f;
-                    xyz[3 * k + a] = 0.05f * (float)c[a] + jitter;
-                }
-                k++;
-            }
     return xyz;
 }
 
@@ -94,14 +82,13 @@ static void test_metasphere_mt(void **state)
     same_blocks(JM_FIELD_METASPHERE, JM_METHOD_MT, 2);
 }
 
-
 /* The grid built on 1, 2 and 3 threads (its passes over the particles and
  * cells run in chunks, the placement in two halves from both ends of each
  * cell): the same cells, the same particles in the same order, the same
  * weights and isolation flags, on a shuffled lattice (dense index), with a
  * far particle (hash map), and with ids (sorted order); a NaN late in the
  * input is found on every thread count. */
-static void build(const float *xyz, size_t n, const uint32_t *ids, int threads, jm_grid *g, jm_mem *mem)
+static jm_status build(const float *xyz, size_t n, const uint32_t *ids, int threads, jm_grid *g, jm_mem *mem)
 {
     jm_params p = {0};
     p.radius = 0.025f;
@@ -113,8 +100,9 @@ static void build(const float *xyz, size_t n, const uint32_t *ids, int threads, 
     assert_int_equal(jm_pool_create(threads, &pool), JM_OK);
     memset(mem, 0, sizeof *mem);
     jm_particles in = {xyz, n, 0, ids};
-    assert_int_equal(jm_grid_build(g, mem, pool, &c, &in), JM_OK);
+    const jm_status st = jm_grid_build(g, mem, pool, &c, &in);
     jm_pool_free(pool);
+    return st;
 }
 
 static void test_threads_same_grid(void **state)
@@ -122,18 +110,11 @@ static void test_threads_same_grid(void **state)
     (void)state;
     const int L = 60; /* 216,000 particles: several chunks of the passes */
     const size_t n = (size_t)L * L * L;
-    float *xyz = malloc(3 * (n + 1) * sizeof *xyz);
+    float *xyz = test_lattice(L, 0.05f, 0.01f, 777u, 1);
     uint32_t *ids = malloc((n + 1) * sizeof *ids);
     assert_true(xyz && ids);
     uint32_t seed = 777u;
-    for (size_t k = 0; k < n; k++) {
-        const size_t c[3] = {k % L, k / L % L, k / ((size_t)L * L)};
-        for (int a = 0; a < 3; a++) {
-            seed = seed * 1664525u + 1013904223u;
-            xyz[3 * k + a] = 0.05f * (float)c[a] + ((float)(seed >> 8) / 16777216.0f - 0.5f) * 0.01f;
-        }
-        ids[k] = (uint32_t)(n - k);
-    }
+    for (size_t k = 0; k < n; k++) ids[k] = (uint32_t)(n - k);
     for (size_t k = n - 1; k > 0; k--) { /* shuffled: cells filled from all over the input */
         seed = seed * 1664525u + 1013904223u;
         const size_t j = (seed >> 4) % (k + 1);
@@ -149,10 +130,10 @@ static void test_threads_same_grid(void **state)
         const uint32_t *id = v == 2 ? ids : NULL; /* 2: ids */
         jm_grid g1, gt;
         jm_mem m1, mt;
-        build(xyz, m, id, 1, &g1, &m1);
+        assert_int_equal(build(xyz, m, id, 1, &g1, &m1), JM_OK);
         assert_true(v == 1 ? g1.dense == NULL : g1.dense != NULL);
         for (int t = 2; t <= 3; t++) {
-            build(xyz, m, id, t, &gt, &mt);
+            assert_int_equal(build(xyz, m, id, t, &gt, &mt), JM_OK);
             assert_int_equal(gt.ncells, g1.ncells);
             assert_memory_equal(gt.cell_start, g1.cell_start, (g1.ncells + 1) * sizeof *g1.cell_start);
             assert_memory_equal(gt.pos, g1.pos, 3 * m * sizeof(float));
@@ -166,20 +147,10 @@ static void test_threads_same_grid(void **state)
     /* a NaN in the last chunk, after good particles in the others */
     xyz[3 * (n - 5) + 1] = NAN;
     for (int t = 1; t <= 2; t++) {
-        jm_params p = {0};
-        p.radius = 0.025f;
-        p.field = JM_FIELD_SPH;
-        jm_config c;
-        assert_int_equal(jm_config_resolve(&p, &c, NULL), JM_OK);
-        jm_pool *pool = NULL;
-        assert_int_equal(jm_pool_create(t, &pool), JM_OK);
-        jm_mem mem;
-        memset(&mem, 0, sizeof mem);
         jm_grid g;
-        jm_particles in = {xyz, n, 0, NULL};
-        assert_int_equal(jm_grid_build(&g, &mem, pool, &c, &in), JM_E_INVALID_PARTICLE);
+        jm_mem mem;
+        assert_int_equal(build(xyz, n, NULL, t, &g, &mem), JM_E_INVALID_PARTICLE);
         assert_int_equal(atomic_load(&mem.current), 0);
-        jm_pool_free(pool);
     }
     free(ids);
     free(xyz);
