@@ -3,6 +3,7 @@
 #include "cpu.h"
 #include <math.h>
 #include <stddef.h>
+#include <stdatomic.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
@@ -260,16 +261,96 @@ __attribute__((target("avx512f"))) static void boxes_avx512(const jm_grid *g, co
     const __m512 vbin = _mm512_set1_ps(c->box_bin), vtop = _mm512_set1_ps((float)(JM_BOX_BINS - 1));
     BOX_LOOP(PREP_AVX512, ROW_AVX512)
 }
+
+/* The same terms in two halves of 8 lanes (AVX2 with FMA, AMD Zen 2 and
+ * the like): the line of each lane's bin picked from the 32 bins by four
+ * permutes of 8 and two blends on the bin's bits 3 and 4 (the sign bit of
+ * the bin shifted left by 28 and 27); gathers were slower. */
+__attribute__((target("avx2,fma"))) static inline __m256 lut32_avx2(const __m256 t[4], __m256i k, __m256 m3, __m256 m4)
+{
+    const __m256 lo = _mm256_blendv_ps(_mm256_permutevar8x32_ps(t[0], k), _mm256_permutevar8x32_ps(t[1], k), m3);
+    const __m256 hi = _mm256_blendv_ps(_mm256_permutevar8x32_ps(t[2], k), _mm256_permutevar8x32_ps(t[3], k), m3);
+    return _mm256_blendv_ps(lo, hi, m4);
+}
+__attribute__((target("avx2,fma"))) static inline float min8_avx2(__m256 v)
+{
+    __m128 m = _mm_min_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+/* A half whose lanes all fall in the last bin (the zero line: a = b = 0)
+ * would add exact zeros to its accumulators: it is skipped, the same sums
+ * (fl(fl(dx^2 + dyz^2) bin) is monotone in dx^2, so the least dx^2 of the
+ * half decides for all eight). */
+#define PREP_AVX2                                                                                          \
+    const __m256 vw = _mm256_set1_ps(w), vE2 = _mm256_set1_ps(b.E2);                                   \
+    const __m256 dxh[2] = {_mm256_sub_ps(_mm256_loadu_ps(b.xc), _mm256_set1_ps(q[0])),                 \
+                           _mm256_sub_ps(_mm256_loadu_ps(b.xc + 8), _mm256_set1_ps(q[0]))};            \
+    const __m256 dx2h[2] = {_mm256_mul_ps(dxh[0], dxh[0]), _mm256_mul_ps(dxh[1], dxh[1])};              \
+    const float hmin[2] = {min8_avx2(dx2h[0]), min8_avx2(dx2h[1])};
+#define ROW_AVX2(L, G0, G1, G2, vy, vz, dyz2)                                                              \
+    do {                                                                                               \
+        const __m256 vyz = _mm256_set1_ps(dyz2), vvy = _mm256_set1_ps(vy), vvz = _mm256_set1_ps(vz);  \
+        for (int hh = 0; hh < 2; hh++) {                                                               \
+            if ((hmin[hh] + dyz2) * c->box_bin >= top) continue; /* every lane's bin the zero line */  \
+            const __m256 s = _mm256_add_ps(dx2h[hh], vyz);                                             \
+            const __m256i kk = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_mul_ps(s, vbin), vtop));       \
+            const __m256 m3 = _mm256_castsi256_ps(_mm256_slli_epi32(kk, 28));                          \
+            const __m256 m4 = _mm256_castsi256_ps(_mm256_slli_epi32(kk, 27));                          \
+            const __m256 a = lut32_avx2(TA, kk, m3, m4), bb = lut32_avx2(TB, kk, m3, m4);              \
+            const __m256 l = _mm256_fnmadd_ps(bb, _mm256_add_ps(s, vE2), a);                           \
+            const __m256 wb = _mm256_mul_ps(vw, bb);                                                   \
+            float *l8 = (L) + 8 * hh, *g0 = (G0) + 8 * hh, *g1 = (G1) + 8 * hh, *g2 = (G2) + 8 * hh;   \
+            _mm256_storeu_ps(l8, _mm256_fmadd_ps(vw, l, _mm256_loadu_ps(l8)));                         \
+            _mm256_storeu_ps(g0, _mm256_fmadd_ps(wb, dxh[hh], _mm256_loadu_ps(g0)));                   \
+            _mm256_storeu_ps(g1, _mm256_fmadd_ps(wb, vvy, _mm256_loadu_ps(g1)));                       \
+            _mm256_storeu_ps(g2, _mm256_fmadd_ps(wb, vvz, _mm256_loadu_ps(g2)));                       \
+        }                                                                                              \
+    } while (0)
+__attribute__((target("avx2,fma"))) static void boxes_avx2(const jm_grid *g, const jm_config *c, const jm_hood *hood,
+                                                           const float *x, const float *y, const float *z, int n,
+                                                           void *work, float *out)
+{
+    __m256 TA[4], TB[4];
+    for (int i = 0; i < 4; i++) {
+        TA[i] = _mm256_loadu_ps(c->box_a + 8 * i);
+        TB[i] = _mm256_loadu_ps(c->box_b + 8 * i);
+    }
+    const float top = (float)(JM_BOX_BINS - 1);
+    const __m256 vbin = _mm256_set1_ps(c->box_bin), vtop = _mm256_set1_ps(top);
+    BOX_LOOP(PREP_AVX2, ROW_AVX2)
+}
 #endif
+
+/* Which path runs: the CPU's best, or (tests) the one jm_box_test_path set. */
+#ifndef JM_SPLAT_VARIANT
+#define JM_SPLAT_VARIANT 0
+#endif
+static _Atomic int forced = -1;
+void jm_box_test_path(int path) { atomic_store(&forced, path); }
+
+int jm_box_path(void)
+{
+    int best = JM_BOX_C;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+    if ((JM_SPLAT_VARIANT == 0 || JM_SPLAT_VARIANT == 3) && __builtin_cpu_supports("avx2") &&
+        __builtin_cpu_supports("fma"))
+        best = JM_BOX_AVX2;
+    if (jm_cpu_avx512()) best = JM_BOX_AVX512;
+#endif
+    const int f = atomic_load(&forced);
+    return f >= 0 && f <= best ? f : best;
+}
 
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
                   const float *z, int n, void *work, float *out)
 {
+    switch (jm_box_path()) {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (jm_cpu_avx512()) {
-        boxes_avx512(g, c, hood, x, y, z, n, work, out);
-        return;
-    }
+    case JM_BOX_AVX512: boxes_avx512(g, c, hood, x, y, z, n, work, out); return;
+    case JM_BOX_AVX2: boxes_avx2(g, c, hood, x, y, z, n, work, out); return;
 #endif
-    boxes_c(g, c, hood, x, y, z, n, work, out);
+    default: boxes_c(g, c, hood, x, y, z, n, work, out);
+    }
 }

@@ -111,7 +111,8 @@ static void test_box_lines_below_kernel(void **state)
  * the particles), every node whose bound passes the proof level samples
  * above the threshold, no bound exceeds its sample by more than the
  * sample's own rounding, and deep inside nearly every node is proven (a
- * pass that proves nothing is no use). White-box: the internal calls. */
+ * pass that proves nothing is no use); on each of the box pass's paths
+ * this CPU runs. White-box: the internal calls. */
 static void test_box_bounds_hold(void **state)
 {
     (void)state;
@@ -142,6 +143,11 @@ static void test_box_bounds_hold(void **state)
     const int64_t origins[][3] = {{48, 48, 48}, {49, 50, 48}, {62, 63, 64}, {140, 64, 64}, {140, 140, 140},
                                   {-16, 60, 70}, {60, -16, 70}, {60, 70, -16}, {61, 71, -15}};
     const int inner_blocks = 3;
+    /* every path this CPU runs: plain C, AVX2, AVX-512 */
+    const int best = jm_box_path();
+    for (int path = JM_BOX_C; path <= best; path++) {
+    jm_box_test_path(path);
+    assert_int_equal(jm_box_path(), path);
     for (size_t b = 0; b < sizeof origins / sizeof origins[0]; b++) {
         float x[33], y[33], z[33];
         float *t[3] = {x, y, z};
@@ -172,11 +178,13 @@ static void test_box_bounds_hold(void **state)
                     }
                 }
         const size_t all = (size_t)n * n * n;
-        printf("block %zu: %zu of %zu nodes proven, largest bound - sample %.3g\n", b, proven, all, worst);
+        printf("path %d, block %zu: %zu of %zu nodes proven, largest bound - sample %.3g\n", path, b, proven, all, worst);
         if (b < (size_t)inner_blocks && proven * 100 < all * 95)
             fail_msg("block %zu inside the lattice: only %zu of %zu nodes proven", b, proven, all);
         free(hood.range);
     }
+    }
+    jm_box_test_path(-1);
     free(work);
     free(pad);
     free(bound);
