@@ -6,13 +6,14 @@
 #define JM_SPLAT_VARIANT 0
 #endif
 
-static int avx512;
+static int avx512, avx2;
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 static void probe(void)
 {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     __builtin_cpu_init();
     avx512 = __builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0;
+    avx2 = __builtin_cpu_supports("avx2") && (JM_SPLAT_VARIANT == 0 || JM_SPLAT_VARIANT == 3);
 #endif
 }
 
@@ -20,4 +21,10 @@ int jm_cpu_avx512(void)
 {
     pthread_once(&once, probe);
     return avx512;
+}
+
+int jm_cpu_avx2(void)
+{
+    pthread_once(&once, probe);
+    return avx2;
 }

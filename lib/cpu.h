@@ -6,4 +6,8 @@
  * the CPU has AVX-512F and the build is not a test variant
  * (JM_SPLAT_VARIANT, tests/t_splat_variants.sh, takes the plain paths). */
 int jm_cpu_avx512(void);
+/* 1 where the hand-written AVX2 paths that give the same bits as the plain
+ * code run: the CPU has AVX2 and the build is not a plain or SSE2 test
+ * variant (JM_SPLAT_VARIANT 1 or 2). */
+int jm_cpu_avx2(void);
 #endif
