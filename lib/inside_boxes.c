@@ -278,31 +278,59 @@ __attribute__((target("avx2,fma"))) static inline float min8_avx2(__m256 v)
     m = _mm_min_ps(m, _mm_movehl_ps(m, m));
     return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
 }
-/* A half whose lanes all fall in the last bin (the zero line: a = b = 0)
- * would add exact zeros to its accumulators: it is skipped, the same sums
- * (fl(fl(dx^2 + dyz^2) bin) is monotone in dx^2, so the least dx^2 of the
- * half decides for all eight). */
+/* Lanes whose bin is the last one (the zero line: a = b = 0) add exact
+ * zeros to their accumulators: they are left out, the same sums. A lane
+ * with fl(dx^2 bin) >= 31 is such a lane on every row (fl(fl(dx^2 + dyz^2)
+ * bin) is monotone in dyz^2 >= 0); the others of a particle (|dx| < 1.97
+ * sph_h) are at most 8 consecutive lanes while the boxes' stride 2h is at
+ * least 0.5 sph_h (h <= JM_BOX_MAX_H sph_h keeps it near that): one window
+ * of 8 lanes from the first of them (at most from lane 8), else the two
+ * halves. On a row, a window whose lanes all reach the last bin (decided
+ * by its least dx^2 for all eight) is skipped too. */
 #define PREP_AVX2                                                                                          \
-    const __m256 vw = _mm256_set1_ps(w), vE2 = _mm256_set1_ps(b.E2);                                   \
-    const __m256 dxh[2] = {_mm256_sub_ps(_mm256_loadu_ps(b.xc), _mm256_set1_ps(q[0])),                 \
-                           _mm256_sub_ps(_mm256_loadu_ps(b.xc + 8), _mm256_set1_ps(q[0]))};            \
-    const __m256 dx2h[2] = {_mm256_mul_ps(dxh[0], dxh[0]), _mm256_mul_ps(dxh[1], dxh[1])};              \
-    const float hmin[2] = {min8_avx2(dx2h[0]), min8_avx2(dx2h[1])};
+    const __m256 vw = _mm256_set1_ps(w), vE2 = _mm256_set1_ps(b.E2), q0 = _mm256_set1_ps(q[0]);        \
+    __m256 wdx[2], wdx2[2];                                                                            \
+    float wmin[2];                                                                                     \
+    int woff[2], nwin = 0;                                                                             \
+    {                                                                                                  \
+        const __m256 da = _mm256_sub_ps(_mm256_loadu_ps(b.xc), q0);                                    \
+        const __m256 db = _mm256_sub_ps(_mm256_loadu_ps(b.xc + 8), q0);                                \
+        const unsigned live =                                                                          \
+            (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(_mm256_mul_ps(da, da), vbin), vtop, _CMP_LT_OQ)) | \
+            (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(_mm256_mul_ps(db, db), vbin), vtop, _CMP_LT_OQ)) << 8; \
+        if (live) {                                                                                    \
+            const int first = __builtin_ctz(live), last = 31 - __builtin_clz(live);                   \
+            if (last - first < 8) {                                                                    \
+                woff[0] = first < 8 ? first : 8;                                                       \
+                nwin = 1;                                                                              \
+            } else {                                                                                   \
+                woff[0] = 0;                                                                           \
+                woff[1] = 8;                                                                           \
+                nwin = 2;                                                                              \
+            }                                                                                          \
+            for (int ww = 0; ww < nwin; ww++) {                                                        \
+                wdx[ww] = _mm256_sub_ps(_mm256_loadu_ps(b.xc + woff[ww]), q0);                         \
+                wdx2[ww] = _mm256_mul_ps(wdx[ww], wdx[ww]);                                            \
+                wmin[ww] = min8_avx2(wdx2[ww]);                                                        \
+            }                                                                                          \
+        }                                                                                              \
+    }
 #define ROW_AVX2(L, G0, G1, G2, vy, vz, dyz2)                                                              \
     do {                                                                                               \
         const __m256 vyz = _mm256_set1_ps(dyz2), vvy = _mm256_set1_ps(vy), vvz = _mm256_set1_ps(vz);  \
-        for (int hh = 0; hh < 2; hh++) {                                                               \
-            if ((hmin[hh] + dyz2) * c->box_bin >= top) continue; /* every lane's bin the zero line */  \
-            const __m256 s = _mm256_add_ps(dx2h[hh], vyz);                                             \
+        for (int hh = 0; hh < nwin; hh++) {                                                            \
+            if ((wmin[hh] + dyz2) * c->box_bin >= top) continue; /* every lane's bin the zero line */  \
+            const __m256 s = _mm256_add_ps(wdx2[hh], vyz);                                             \
             const __m256i kk = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_mul_ps(s, vbin), vtop));       \
             const __m256 m3 = _mm256_castsi256_ps(_mm256_slli_epi32(kk, 28));                          \
             const __m256 m4 = _mm256_castsi256_ps(_mm256_slli_epi32(kk, 27));                          \
             const __m256 a = lut32_avx2(TA, kk, m3, m4), bb = lut32_avx2(TB, kk, m3, m4);              \
             const __m256 l = _mm256_fnmadd_ps(bb, _mm256_add_ps(s, vE2), a);                           \
             const __m256 wb = _mm256_mul_ps(vw, bb);                                                   \
-            float *l8 = (L) + 8 * hh, *g0 = (G0) + 8 * hh, *g1 = (G1) + 8 * hh, *g2 = (G2) + 8 * hh;   \
+            const int o = woff[hh];                                                                    \
+            float *l8 = (L) + o, *g0 = (G0) + o, *g1 = (G1) + o, *g2 = (G2) + o;                       \
             _mm256_storeu_ps(l8, _mm256_fmadd_ps(vw, l, _mm256_loadu_ps(l8)));                         \
-            _mm256_storeu_ps(g0, _mm256_fmadd_ps(wb, dxh[hh], _mm256_loadu_ps(g0)));                   \
+            _mm256_storeu_ps(g0, _mm256_fmadd_ps(wb, wdx[hh], _mm256_loadu_ps(g0)));                   \
             _mm256_storeu_ps(g1, _mm256_fmadd_ps(wb, vvy, _mm256_loadu_ps(g1)));                       \
             _mm256_storeu_ps(g2, _mm256_fmadd_ps(wb, vvz, _mm256_loadu_ps(g2)));                       \
         }                                                                                              \
