@@ -1,5 +1,6 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
+#include "cpu.h"
 #include "anisotropy.h"
 #include "units.h"
 #include <math.h>
@@ -239,6 +240,46 @@ static void place_task(void *arg, size_t half, int worker)
         for (size_t k = j->n; k-- > j->n / 2;) place_one(j, k, 0);
 }
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define JM_DENS_AVX2 1
+/* sph_cell's lane sums by hand in AVX2 (where the CPU has it but not
+ * AVX-512): each half of 8 lanes (particle p + 3 h against the candidates'
+ * group) does what sph_cell's lanes do, the same IEEE operations in the same
+ * order, but skips a group whose 8 candidates all lie at d2 >= skip2 =
+ * sup2 (1 + 1e-5): there the float q = fl(fl(sqrt d2) inv) is at least 2
+ * (sqrt gains 5e-6, inv and the product lose 1.2e-7), so each lane would
+ * add W = 0 exactly and count no neighbour. The same sums and counts. */
+__attribute__((target("avx2"))) static void dens_avx2(const float *xs, const float *ys, const float *zs, size_t cap,
+                                                      const float *p, int halves, float inv, float sup2, float skip2,
+                                                      float lane[16], int near[16])
+{
+    const __m256 zero = _mm256_setzero_ps(), two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f);
+    const __m256 quarter = _mm256_set1_ps(0.25f), vinv = _mm256_set1_ps(inv);
+    const __m256 vsup2 = _mm256_set1_ps(sup2), vskip = _mm256_set1_ps(skip2);
+    for (int h = 0; h < halves; h++) {
+        const __m256 px = _mm256_set1_ps(p[3 * h]), py = _mm256_set1_ps(p[3 * h + 1]), pz = _mm256_set1_ps(p[3 * h + 2]);
+        __m256 acc = zero;
+        __m256i cnt = _mm256_setzero_si256();
+        for (size_t b = 0; b < cap; b += 8) {
+            const size_t o = 2 * b + 8 * (size_t)h;
+            const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xs + o), px), dy = _mm256_sub_ps(_mm256_loadu_ps(ys + o), py);
+            const __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(zs + o), pz);
+            const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+            if (!_mm256_movemask_ps(_mm256_cmp_ps(d2, vskip, _CMP_LT_OQ))) continue;
+            const __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(d2), vinv);
+            const __m256 a = _mm256_max_ps(_mm256_sub_ps(two, q), zero), bb = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
+            const __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, a), a), a),
+                                           _mm256_mul_ps(_mm256_mul_ps(bb, bb), bb));
+            acc = _mm256_add_ps(acc, w);
+            cnt = _mm256_sub_epi32(cnt, _mm256_castps_si256(_mm256_cmp_ps(d2, vsup2, _CMP_LT_OQ)));
+        }
+        _mm256_storeu_ps(lane + 8 * h, acc);
+        _mm256_storeu_si256((__m256i *)(near + 8 * h), cnt);
+    }
+}
+#endif
+
 /* Densities: the neighbours of a cell are copied once into structure-of-
  * arrays form (padded to 8 with far-away points), then each particle sums
  * its kernel over them in 8 lanes added in a fixed order. */
@@ -253,6 +294,10 @@ static void sph_cell(void *arg, size_t ci, int worker)
     nb_job *job = arg;
     jm_grid *g = job->g;
     const float inv = 1.0f / job->c->sph_h, sup2 = job->c->support * job->c->support;
+#ifdef JM_DENS_AVX2
+    const int avx2 = jm_cpu_avx2() && !jm_cpu_avx512();
+    const float skip2 = sup2 * (1.0f + 1e-5f);
+#endif
     uint32_t r[27][2];
     int nr = near_ranges(g, ci, r);
     size_t m = 0;
@@ -288,6 +333,10 @@ static void sph_cell(void *arg, size_t ci, int worker)
         const int two = i + 1 < end;
         float lane[16] = {0};
         int near[16] = {0};
+#ifdef JM_DENS_AVX2
+        if (avx2) dens_avx2(xs, ys, zs, cap, GP(g, i), 1 + two, inv, sup2, skip2, lane, near);
+        else
+#endif
         if (two) {
             float px[16], py[16], pz[16];
             for (int l = 0; l < 16; l++) {
