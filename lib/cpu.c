@@ -6,7 +6,7 @@
 #define JM_SPLAT_VARIANT 0
 #endif
 
-static int avx512, avx2;
+static int avx512, avx2, fma;
 static pthread_once_t once = PTHREAD_ONCE_INIT;
 static void probe(void)
 {
@@ -14,6 +14,7 @@ static void probe(void)
     __builtin_cpu_init();
     avx512 = __builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT == 0;
     avx2 = __builtin_cpu_supports("avx2") && (JM_SPLAT_VARIANT == 0 || JM_SPLAT_VARIANT == 3);
+    fma = avx2 && __builtin_cpu_supports("fma");
 #endif
 }
 
@@ -27,4 +28,10 @@ int jm_cpu_avx2(void)
 {
     pthread_once(&once, probe);
     return avx2;
+}
+
+int jm_cpu_avx2_fma(void)
+{
+    pthread_once(&once, probe);
+    return fma;
 }

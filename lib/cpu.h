@@ -10,4 +10,7 @@ int jm_cpu_avx512(void);
  * code run: the CPU has AVX2 and the build is not a plain or SSE2 test
  * variant (JM_SPLAT_VARIANT 1 or 2). */
 int jm_cpu_avx2(void);
+/* 1 where jm_cpu_avx2() and the CPU has FMA too (the paths whose bounds
+ * hold for fused or separate roundings alike). */
+int jm_cpu_avx2_fma(void);
 #endif

@@ -351,9 +351,6 @@ __attribute__((target("avx2,fma"))) static void boxes_avx2(const jm_grid *g, con
 #endif
 
 /* Which path runs: the CPU's best, or (tests) the one jm_box_test_path set. */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
 static _Atomic int forced = -1;
 void jm_box_test_path(int path) { atomic_store(&forced, path); }
 
@@ -361,10 +358,7 @@ int jm_box_path(void)
 {
     int best = JM_BOX_C;
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    __builtin_cpu_init();
-    if ((JM_SPLAT_VARIANT == 0 || JM_SPLAT_VARIANT == 3) && __builtin_cpu_supports("avx2") &&
-        __builtin_cpu_supports("fma"))
-        best = JM_BOX_AVX2;
+    if (jm_cpu_avx2_fma()) best = JM_BOX_AVX2; /* off in the plain and SSE2 variants */
     if (jm_cpu_avx512()) best = JM_BOX_AVX512;
 #endif
     const int f = atomic_load(&forced);
