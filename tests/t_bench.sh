@@ -22,7 +22,7 @@ check_json() {
     const o = JSON.parse(fs.readFileSync(file, "utf8"));
     const need = (obj, keys, where) => { for (const k of keys) if (!(k in obj)) throw new Error(`${where}: no "${k}"`); };
     need(o, ["jetmesh_version", "date", "machine", "settings", "failed", "cases"], "document");
-    need(o.machine, ["cpu_model", "cores", "memory_bytes"], "machine");
+    need(o.machine, ["cpu_model", "cpu_detail", "cores", "memory_bytes"], "machine");
     if (typeof o.machine.cores !== "number" || o.machine.cores < 1) throw new Error("machine.cores");
     if (!/^\d+\.\d+\.\d+/.test(o.jetmesh_version)) throw new Error("jetmesh_version");
     if (o.cases.length !== Number(ncases)) throw new Error(`${o.cases.length} cases, expected ${ncases}`);

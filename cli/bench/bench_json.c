@@ -150,6 +150,8 @@ void bench_json_doc(FILE *f, const bench_opts *o, const bench_machine *m, const 
     json_str(f, m->date);
     fputs(",\n  \"machine\": {\"cpu_model\": ", f);
     json_str(f, m->cpu);
+    fputs(", \"cpu_detail\": ", f);
+    json_str(f, m->detail);
     fprintf(f, ", \"cores\": %d, \"memory_bytes\": %zu, \"os\": ", m->cores, m->memory);
     json_str(f, m->os);
     fputs("},\n  \"settings\": {\"min_time_s\": ", f);

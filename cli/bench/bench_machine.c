@@ -1,7 +1,8 @@
-/* bench_machine.c - describes the machine a benchmark ran on: CPU model, cores, memory, OS and the UTC date. */
+/* bench_machine.c - describes the machine a benchmark ran on: CPU model and vector extensions, cores, memory, OS and the UTC date. */
 #include "bench_machine.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/utsname.h>
 #include <time.h>
@@ -13,10 +14,17 @@ void bench_machine_info(bench_machine *m)
     memset(m, 0, sizeof *m);
     snprintf(m->cpu, sizeof m->cpu, "unknown");
     FILE *f = fopen("/proc/cpuinfo", "r");
+    int family = -1, model = -1;
     if (f) {
         char line[512];
         while (fgets(line, sizeof line, f)) {
+            if (family < 0 && strncmp(line, "cpu family", 10) == 0 && strchr(line, ':'))
+                family = atoi(strchr(line, ':') + 1);
+            if (model < 0 && strncmp(line, "model\t", 6) == 0 && strchr(line, ':'))
+                model = atoi(strchr(line, ':') + 1);
             if (strncmp(line, "model name", 10) == 0 || strncmp(line, "Model", 5) == 0) {
+                if (strcmp(m->cpu, "unknown") != 0)
+                    continue; /* the first processor's */
                 char *colon = strchr(line, ':');
                 if (!colon)
                     continue;
@@ -26,14 +34,23 @@ void bench_machine_info(bench_machine *m)
                 size_t n = strcspn(colon, "\r\n");
                 while (n > 0 && colon[n - 1] == ' ')
                     n--;
-                if (n > 0) {
+                if (n > 0)
                     snprintf(m->cpu, sizeof m->cpu, "%.*s", (int)n, colon);
-                    break;
-                }
             }
         }
         fclose(f);
     }
+    const char *isa = "";
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+    isa = __builtin_cpu_supports("avx512f")                                        ? "AVX-512"
+          : __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? "AVX2 and FMA, no AVX-512"
+                                                                             : "SSE2";
+#endif
+    if (family >= 0 && model >= 0)
+        snprintf(m->detail, sizeof m->detail, "%s%sfamily %d model %d", isa, *isa ? ", " : "", family, model);
+    else
+        snprintf(m->detail, sizeof m->detail, "%s", isa);
     m->cores = platform_cores();
     m->memory = platform_physical_memory();
     struct utsname u;

@@ -58,7 +58,7 @@ void bench_table_header(const bench_opts *o, const bench_machine *m)
 {
     char mem[32];
     printf("jetmesh %s bench  %s\n", jm_version(), m->date);
-    printf("machine: %s, %d cores, %s, %s\n", m->cpu, m->cores,
+    printf("machine: %s%s%s%s, %d cores, %s, %s\n", m->cpu, *m->detail ? " (" : "", m->detail, *m->detail ? ")" : "", m->cores,
            platform_format_bytes(m->memory, mem, sizeof mem), m->os);
     printf("timing: after %ld warm-up run%s, at least %ld run%s and %.3g s per case; radius %g\n\n",
            o->warmup, o->warmup == 1 ? "" : "s", o->repeat, o->repeat == 1 ? "" : "s", o->min_time,
