@@ -1,6 +1,7 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
 #include "cpu.h"
+#include "cubic8.h"
 #include "anisotropy.h"
 #include "units.h"
 #include <math.h>
@@ -240,8 +241,7 @@ static void place_task(void *arg, size_t half, int worker)
         for (size_t k = j->n; k-- > j->n / 2;) place_one(j, k, 0);
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
+#ifdef JM_CUBIC8
 #define JM_DENS_AVX2 1
 /* sph_cell's lane sums by hand in AVX2 (where the CPU has it but not
  * AVX-512): each half of 8 lanes (particle p + 3 h against the candidates'
@@ -254,8 +254,7 @@ __attribute__((target("avx2"))) static void dens_avx2(const float *xs, const flo
                                                       const float *p, int halves, float inv, float sup2, float skip2,
                                                       float lane[16], int near[16])
 {
-    const __m256 zero = _mm256_setzero_ps(), two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f);
-    const __m256 quarter = _mm256_set1_ps(0.25f), vinv = _mm256_set1_ps(inv);
+    const __m256 zero = _mm256_setzero_ps(), vinv = _mm256_set1_ps(inv);
     const __m256 vsup2 = _mm256_set1_ps(sup2), vskip = _mm256_set1_ps(skip2);
     for (int h = 0; h < halves; h++) {
         const __m256 px = _mm256_set1_ps(p[3 * h]), py = _mm256_set1_ps(p[3 * h + 1]), pz = _mm256_set1_ps(p[3 * h + 2]);
@@ -267,11 +266,7 @@ __attribute__((target("avx2"))) static void dens_avx2(const float *xs, const flo
             const __m256 dz = _mm256_sub_ps(_mm256_loadu_ps(zs + o), pz);
             const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
             if (!_mm256_movemask_ps(_mm256_cmp_ps(d2, vskip, _CMP_LT_OQ))) continue;
-            const __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(d2), vinv);
-            const __m256 a = _mm256_max_ps(_mm256_sub_ps(two, q), zero), bb = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
-            const __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, a), a), a),
-                                           _mm256_mul_ps(_mm256_mul_ps(bb, bb), bb));
-            acc = _mm256_add_ps(acc, w);
+            acc = _mm256_add_ps(acc, jm_cubic_w8(_mm256_mul_ps(_mm256_sqrt_ps(d2), vinv)));
             cnt = _mm256_sub_epi32(cnt, _mm256_castps_si256(_mm256_cmp_ps(d2, vsup2, _CMP_LT_OQ)));
         }
         _mm256_storeu_ps(lane + 8 * h, acc);

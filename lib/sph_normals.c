@@ -1,6 +1,7 @@
 /* sph_normals.c - SPH normals: the particles near a part of a block gathered in groups of 8 (only the hood's cells that can hold them visited) and the gradient summed over them. */
 #include "field.h"
 #include "cpu.h"
+#include "cubic8.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -116,8 +117,7 @@ __attribute__((target("avx2"))) static void normal_avx2(const jm_config *c, cons
                                                        float nrm[3])
 {
     const __m256 px = _mm256_set1_ps(p[0]), py = _mm256_set1_ps(p[1]), pz = _mm256_set1_ps(p[2]);
-    const __m256 zero = _mm256_setzero_ps(), two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f);
-    const __m256 m075 = _mm256_set1_ps(-0.75f), three = _mm256_set1_ps(3.0f);
+    const __m256 zero = _mm256_setzero_ps();
     const __m256 R2 = _mm256_set1_ps(c->support * c->support), inv = _mm256_set1_ps(1.0f / c->sph_h);
     __m256 gx = zero, gy = zero, gz = zero;
     const size_t groups = (s->n + 7) / 8;
@@ -128,9 +128,7 @@ __attribute__((target("avx2"))) static void normal_avx2(const jm_config *c, cons
         const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
         const __m256 in = _mm256_and_ps(_mm256_cmp_ps(d2, R2, _CMP_LT_OQ), _mm256_cmp_ps(d2, zero, _CMP_GT_OQ));
         if (_mm256_testz_ps(in, in)) continue;
-        const __m256 d = _mm256_sqrt_ps(d2), q = _mm256_mul_ps(d, inv);
-        const __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero), B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
-        const __m256 dw = _mm256_add_ps(_mm256_mul_ps(_mm256_mul_ps(m075, A), A), _mm256_mul_ps(_mm256_mul_ps(three, B), B));
+        const __m256 d = _mm256_sqrt_ps(d2), dw = jm_cubic_dw8(_mm256_mul_ps(d, inv));
         /* lanes out of the support: d may be 0 (0 / 0): masked to k = 0 after the division */
         const __m256 k = _mm256_and_ps(in, _mm256_div_ps(_mm256_mul_ps(_mm256_loadu_ps(b + 24), dw), d));
         gx = _mm256_add_ps(gx, _mm256_mul_ps(k, dx));

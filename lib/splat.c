@@ -1,6 +1,7 @@
 /* splat.c - SPH field sampling on a block: the kernel splatted row by row in SIMD chosen at run time. */
 #include "splat.h"
 #include "cull.h"
+#include "cubic8.h"
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -182,15 +183,10 @@ __attribute__((target("avx2"))) INLINE void row_avx2(float *row, const float *xp
                                                      float dyz2, float inv, float wgt)
 {
     const __m256 vq = _mm256_set1_ps(qx), vd = _mm256_set1_ps(dyz2), vi = _mm256_set1_ps(inv), vw = _mm256_set1_ps(wgt);
-    const __m256 two = _mm256_set1_ps(2.0f), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
-    const __m256 quarter = _mm256_set1_ps(0.25f);
     for (int i = a; i < b; i += 8) {
         __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vq);
         __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), vd)), vi);
-        __m256 A = _mm256_max_ps(_mm256_sub_ps(two, q), zero);
-        __m256 B = _mm256_max_ps(_mm256_sub_ps(one, q), zero);
-        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(quarter, A), A), A),
-                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        __m256 w = jm_cubic_w8(q);
         _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(vw, w)));
     }
 }
@@ -264,10 +260,7 @@ __attribute__((target("avx512f"))) INLINE void row_avx512d(float *row, const flo
     if (i < b) {
         const __m256 hd = _mm256_set1_ps(dyz2), hi = _mm512_castps512_ps256(vi), hw = _mm512_castps512_ps256(vw);
         __m256 q = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_add_ps(_mm256_loadu_ps(dx2r + i), hd)), hi);
-        __m256 A = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(2.0f), q), _mm256_setzero_ps());
-        __m256 B = _mm256_max_ps(_mm256_sub_ps(_mm256_set1_ps(1.0f), q), _mm256_setzero_ps());
-        __m256 w = _mm256_sub_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(0.25f), A), A), A),
-                                 _mm256_mul_ps(_mm256_mul_ps(B, B), B));
+        __m256 w = jm_cubic_w8(q);
         _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_mul_ps(hw, w)));
     }
 }
