@@ -55,6 +55,103 @@ static inline double volume_term(const float *pa, const float *pb, const float *
 }
 #endif
 
+/*
+ * The pieces' signed volumes, summed on the pool's threads in a fixed order
+ * that does not depend on their number: the triangles in chunks of
+ * VOL_CHUNK; in each chunk, every run of consecutive triangles of one piece
+ * (a piece's triangles mostly follow each other) summed in triangle order
+ * from 0; the runs' sums added to their pieces' volumes in chunk and run
+ * order. A chunk keeps up to VOL_RUNS runs in its slots; one with more (a
+ * spray of small pieces) is summed again into a list of its own size.
+ */
+#define VOL_CHUNK ((size_t)1 << 15)
+#define VOL_RUNS 256
+typedef struct {
+    uint32_t root;
+    double sum;
+} vol_run;
+typedef struct {
+    jm_mem *mem;
+    const float *pos;
+    const uint32_t *idx, *parent;
+    size_t nt;
+    double o[3];
+    vol_run *slots;  /* VOL_RUNS a chunk */
+    vol_run **big;   /* per chunk: its own list when it has more runs */
+    size_t *nruns;   /* per chunk */
+    int failed;
+} vol_job;
+
+/* chunk k's runs into out (room for cap; the count is returned either way) */
+static size_t chunk_runs(const vol_job *j, size_t k, vol_run *out, size_t cap)
+{
+    const size_t a = k * VOL_CHUNK, b = a + VOL_CHUNK < j->nt ? a + VOL_CHUNK : j->nt;
+    size_t nr = 0;
+    uint32_t cur = j->parent[j->idx[3 * a]];
+    double acc = 0.0;
+    for (size_t t = a; t < b; t++) {
+        const uint32_t *i = j->idx + 3 * t;
+        const uint32_t root = j->parent[i[0]];
+        if (root != cur) {
+            if (nr < cap) out[nr] = (vol_run){cur, acc};
+            nr++;
+            cur = root;
+            acc = 0.0;
+        }
+        acc += volume_term(j->pos + 3 * (size_t)i[0], j->pos + 3 * (size_t)i[1], j->pos + 3 * (size_t)i[2], j->o);
+    }
+    if (nr < cap) out[nr] = (vol_run){cur, acc};
+    return nr + 1;
+}
+
+static void vol_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    vol_job *j = arg;
+    j->nruns[k] = chunk_runs(j, k, j->slots + k * VOL_RUNS, VOL_RUNS);
+}
+
+static void vol_big_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    vol_job *j = arg;
+    if (j->nruns[k] <= VOL_RUNS) return;
+    j->big[k] = jm_alloc(j->mem, j->nruns[k] * sizeof(vol_run));
+    if (!j->big[k]) { __atomic_store_n(&j->failed, 1, __ATOMIC_RELAXED); return; }
+    chunk_runs(j, k, j->big[k], j->nruns[k]);
+}
+
+/* vol[root] gets each piece's signed volume (vol zeroed); 0 if out of memory */
+static int piece_volumes(jm_mem *mem, jm_pool *pool, const float *pos, const uint32_t *idx, size_t nt,
+                         const uint32_t *parent, double *vol)
+{
+    const size_t nch = (nt + VOL_CHUNK - 1) / VOL_CHUNK;
+    /* about the first vertex (translation-invariant for a closed shell;
+     * near the mesh for precision) */
+    vol_job j = {mem, pos, idx, parent, nt, {pos[0], pos[1], pos[2]}, NULL, NULL, NULL, 0};
+    j.slots = jm_alloc(mem, nch * VOL_RUNS * sizeof *j.slots);
+    j.big = jm_calloc(mem, nch, sizeof *j.big);
+    j.nruns = jm_alloc(mem, nch * sizeof *j.nruns);
+    int ok = j.slots && j.big && j.nruns;
+    if (ok) {
+        jm_pool_run(pool, nch, 1, vol_task, &j);
+        jm_pool_run(pool, nch, 1, vol_big_task, &j);
+        ok = !j.failed;
+    }
+    if (ok)
+        for (size_t k = 0; k < nch; k++) {
+            const vol_run *r = j.nruns[k] > VOL_RUNS ? j.big[k] : j.slots + k * VOL_RUNS;
+            for (size_t q = 0; q < j.nruns[k]; q++) vol[r[q].root] += r[q].sum;
+        }
+    if (j.big)
+        for (size_t k = 0; k < nch; k++)
+            if (j.big[k]) jm_free(mem, j.big[k], j.nruns[k] * sizeof(vol_run));
+    jm_free(mem, j.slots, nch * VOL_RUNS * sizeof *j.slots);
+    jm_free(mem, j.big, nch * sizeof *j.big);
+    jm_free(mem, j.nruns, nch * sizeof *j.nruns);
+    return ok;
+}
+
 int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
                            size_t *ni, double max_volume, uint32_t *roots, size_t *out_removed)
 {
@@ -69,24 +166,11 @@ int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, f
         return 0;
     }
     jm_mesh_pieces(pool, parent, idx, n, nt);
-    /* signed volumes about the first vertex (translation-invariant for a
-     * closed shell; near the mesh for precision), summed in triangle order */
-    const double o[3] = {pos[0], pos[1], pos[2]};
-    /* a component's triangles mostly follow each other: its sum is kept in
-     * a register while they do (the same additions in the same order) */
-    uint32_t cur = parent[idx[0]];
-    double acc = 0.0;
-    for (size_t t = 0; t < nt; t++) {
-        const uint32_t *i = idx + 3 * t;
-        const uint32_t root = parent[i[0]];
-        if (root != cur) {
-            vol[cur] = acc;
-            cur = root;
-            acc = vol[root];
-        }
-        acc += volume_term(pos + 3 * (size_t)i[0], pos + 3 * (size_t)i[1], pos + 3 * (size_t)i[2], o);
+    if (!piece_volumes(mem, pool, pos, idx, nt, parent, vol)) {
+        if (!roots) jm_free(mem, parent, n * sizeof *parent);
+        jm_free(mem, vol, n * sizeof *vol);
+        return 0;
     }
-    vol[cur] = acc;
     size_t removed = 0;
     for (size_t v = 0; v < n; v++)
         if (parent[v] == v && vol[v] < 0.0 && -vol[v] < max_volume) removed++;

@@ -118,6 +118,10 @@ static inline uint32_t *dense_slot(const jm_grid *g, const float p[3])
 /* ---- the build's passes over all particles or cells, on the pool's
  * threads in chunks; each gives what the serial loop would */
 #define PCH ((size_t)1 << 16) /* particles or cells a task */
+#define PAIR_CH ((size_t)1 << 12) /* cells a task of the pair count (27 look-ups a cell) */
+/* particles from which placement runs as two halves on two threads (below,
+ * the halves' start-up costs more than they save) */
+#define PLACE_SPLIT ((size_t)1 << 13)
 
 /* Validation and bounds: per chunk the box of its particles (in the
  * library's unit) and the failure of its first bad particle. */
@@ -194,7 +198,7 @@ static void pair_task(void *arg, size_t chunk, int worker)
     (void)worker;
     pair_job *j = arg;
     const jm_grid *g = j->g;
-    const size_t a = chunk * PCH, b = a + PCH < g->ncells ? a + PCH : g->ncells;
+    const size_t a = chunk * PAIR_CH, b = a + PAIR_CH < g->ncells ? a + PAIR_CH : g->ncells;
     double pairs = 0.0;
     uint32_t rr[27][2];
     for (size_t ci = a; ci < b; ci++) {
@@ -780,7 +784,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     g->cell_start[ncells] = acc;
     {
         place_job pj = {g, base, stride, n, c->unit_in, order, pcell, count};
-        if (jm_pool_threads(pool) >= 2 && n >= 2 * PCH) {
+        if (jm_pool_threads(pool) >= 2 && n >= PLACE_SPLIT) {
             for (size_t ci = 0; ci < ncells; ci++) count[4 * ci + 1] = g->cell_start[ci + 1]; /* coordinates copied */
             jm_pool_run(pool, 2, 1, place_task, &pj);
         } else {
@@ -799,7 +803,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
      * when that is beyond JM_MAX_PAIR_CHECKS (a frame of duplicates, or a
      * radius far too large, would otherwise take hours) */
     {
-        const size_t nch = (ncells + PCH - 1) / PCH;
+        const size_t nch = (ncells + PAIR_CH - 1) / PAIR_CH;
         double *part = jm_alloc(mem, (nch ? nch : 1) * sizeof *part), pairs = 0.0;
         if (!part) { st = JM_E_OUT_OF_MEMORY; goto fail; }
         pair_job pj = {g, part};
