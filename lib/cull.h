@@ -82,7 +82,7 @@ int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *ho
                          const float hi[3], size_t *inner);
 
 /* Bytes of the span array jm_sph_spans fills for n nodes a side. */
-#define JM_CULL_SPAN_BYTES(n) (2 * (size_t)(n) * (size_t)(n))
+#define JM_CULL_SPAN_BYTES(n) (2 * (size_t)(n) * (size_t)(n) + 16) /* 16: splat.c's eight-row loads */
 
 /* From the partial sums part of the n^3 nodes (rows of JM_PAD(n), see
  * jm_sph_partial), span[2 r], span[2 r + 1] get [a, b), the nodes of node

@@ -60,11 +60,38 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
     return *i0 < *i1 && *j0 < *j1 && *k0 < *k1;
 }
 
+/* One particle's rows on slab kk (ROWS of SAMPLE_BODY), one at a time:
+ * the chord of its support on row jj, from a to e in whole steps of 8
+ * (cut to the row's span where SPANNED), given to ROW. */
+#define ROWS_ONE(ROW, SPANNED)                                                                                 \
+    for (int jj = ja; jj < jb; jj++) {                                                                     \
+        const uint8_t *sp = SPANNED ? span + 2 * ((size_t)kk * n + jj) : NULL;                             \
+        if (SPANNED && sp[0] >= sp[1]) continue;                                                           \
+        float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                                     \
+        if (dyz2 >= R2) continue;                                                                          \
+        float half = sqrtf(R2 - dyz2) * inv_h;                                                             \
+        int a = iceil(cx - half), b = ifloor(cx + half) + 1;                                               \
+        a = a > i0 ? a : i0;                                                                               \
+        b = b < i1 ? b : i1;                                                                               \
+        if (a >= b) continue;                                                                              \
+        int e = a + ((b - a + 7) & ~7);                                                                    \
+        if (SPANNED) {                                                                                     \
+            /* the part of the run [a, e) over the span, in whole steps of 8 from a */                     \
+            int lo = a > sp[0] ? a : sp[0], hi = e < sp[1] ? e : sp[1];                                    \
+            if (lo >= hi) continue;                                                                        \
+            a += (lo - a) & ~7;                                                                            \
+            e = a + ((hi - a + 7) & ~7);                                                                   \
+        }                                                                                                  \
+        ROW(slab + (size_t)jj * ns, xp, a, e, qx, dyz2, inv, wgt);                                         \
+    }
+
 /* Splats every particle of the hood whose support reaches the block into
  * pad, whose rows are JM_PAD(n) >= n + 7 long, in runs of 8 nodes from the
  * start of the support's chord: one or two vector steps per row (the lanes
- * past the chord add exact zeros: the kernel vanishes beyond its support). */
-#define SAMPLE_BODY(ROW, SPANNED, PREP)                                                                        \
+ * past the chord add exact zeros: the kernel vanishes beyond its support).
+ * ROWS does one particle's rows [ja, jb) of slab kk (ROWS_ONE's, or
+ * ROWS_AVX2's: the same rows and runs). */
+#define SAMPLE_BODY(ROWS, SPANNED, PREP)                                                                       \
     const int ns = JM_PAD(n);                                                                              \
     const float R = c->support, R2 = R * R, inv = 1.0f / c->sph_h, inv_h = c->inv_h, h = c->h;             \
     ROWS_SETUP                                                                                             \
@@ -90,29 +117,10 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
                 float *slab = pad + (size_t)kk * n * ns;                                                   \
                 const int ja = SPANNED && sb.j0[kk] > j0 ? sb.j0[kk] : j0;                                 \
                 const int jb = SPANNED && sb.j1[kk] < j1 ? sb.j1[kk] : j1;                                 \
-                for (int jj = ja; jj < jb; jj++) {                                                         \
-                    const uint8_t *sp = SPANNED ? span + 2 * ((size_t)kk * n + jj) : NULL;                 \
-                    if (SPANNED && sp[0] >= sp[1]) continue;                                               \
-                    float dy = y[jj] - q[1], dyz2 = dy * dy + dz2;                                         \
-                    if (dyz2 >= R2) continue;                                                              \
-                    float half = sqrtf(R2 - dyz2) * inv_h;                                                 \
-                    int a = iceil(cx - half), b = ifloor(cx + half) + 1;                                   \
-                    a = a > i0 ? a : i0;                                                                   \
-                    b = b < i1 ? b : i1;                                                                   \
-                    if (a >= b) continue;                                                                  \
-                    int e = a + ((b - a + 7) & ~7);                                                        \
-                    if (SPANNED) {                                                                         \
-                        /* the part of the run [a, e) over the span, in whole steps of 8 from a */         \
-                        int lo = a > sp[0] ? a : sp[0], hi = e < sp[1] ? e : sp[1];                        \
-                        if (lo >= hi) continue;                                                            \
-                        a += (lo - a) & ~7;                                                                \
-                        e = a + ((hi - a + 7) & ~7);                                                       \
-                    }                                                                                      \
-                    ROW(slab + (size_t)jj * ns, xp, a, e, qx, dyz2, inv, wgt);                             \
-                }                                                                                          \
+                ROWS                                                                                       \
             }                                                                                              \
         }                                                                                                  \
-    }                                                                                                      \
+    }
 
 /* The partial sums (see jm_sph_partial): each particle's lower-bound terms
  * (cull.h, JM_TAN_*) on the rows within JM_PART_REACH of its support
@@ -158,8 +166,8 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
     const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y, const float *z, \
         int n, const uint8_t *span, float *pad
 
-static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 0, ) }
-static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(row_c, 1, ) }
+static void sample_c(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(row_c, 0), 0, ) }
+static void sample_c_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(row_c, 1), 1, ) }
 static void partial_c(SAMPLE_ARGS) { PARTIAL_BODY(rowp_c, ) } /* exact lanes [a, b) */
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -220,6 +228,72 @@ __attribute__((target("avx2"))) INLINE void rowp_avx2(float *row, const float *x
         __m256 l = _mm256_max_ps(_mm256_sub_ps(a1, _mm256_mul_ps(b1, s)), _mm256_sub_ps(a2, _mm256_mul_ps(b2, s)));
         __m256 m = _mm256_castsi256_ps(_mm256_cmpgt_epi32(vb, _mm256_add_epi32(_mm256_set1_epi32(i), iota)));
         _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_and_ps(m, _mm256_max_ps(l, zero))));
+    }
+}
+
+/* AVX2 rows eight at a time (ROWS_AVX2): the setup ROWS_ONE does per row
+ * (dy^2 + dz^2, the chord's half length, its whole steps of 8 and their cut
+ * to the span) on eight rows' lanes, with the same IEEE operations (no
+ * fused multiply-add in this target) and the same integer steps: iceil as
+ * truncation plus (x > t), ifloor as truncation less (x < t), which agree
+ * on the chord ends (within +-2^31); then row_avx2 on the rows left, in
+ * order. The same rows, runs and sums. yp: the block's y padded by 8 lanes
+ * (YPAD_AVX2); spr: the slab's spans (2 bytes a row; the buffer holds 16
+ * bytes past the last, JM_CULL_SPAN_BYTES) or NULL. */
+#define YPAD_AVX2                                                                                          \
+    float yp[JM_PAD_MAX + 8];                                                                              \
+    for (int t = 0; t < n + 8; t++) yp[t] = t < n ? y[t] : 0.0f;
+#define ROWS_AVX2(SPANNED)                                                                                     \
+    rows_avx2(slab, ns, yp, xp, SPANNED ? span + 2 * (size_t)kk * n : NULL, ja, jb, q[1], dz2, R2, inv_h, cx, \
+              i0, i1, qx, inv, wgt);
+__attribute__((target("avx2"))) INLINE void rows_avx2(float *slab, int ns, const float *yp, const float *xp,
+                                                      const uint8_t *spr, int ja, int jb, float qy, float dz2,
+                                                      float R2, float inv_h, float cx, int i0, int i1, float qx,
+                                                      float inv, float wgt)
+{
+    const __m256 vqy = _mm256_set1_ps(qy), vdz2 = _mm256_set1_ps(dz2), vR2 = _mm256_set1_ps(R2);
+    const __m256 vih = _mm256_set1_ps(inv_h), vcx = _mm256_set1_ps(cx);
+    const __m256i vi0 = _mm256_set1_epi32(i0), vi1 = _mm256_set1_epi32(i1), one = _mm256_set1_epi32(1);
+    const __m256i seven = _mm256_set1_epi32(7), not7 = _mm256_set1_epi32(~7);
+    const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m128i split = _mm_setr_epi8(0, 2, 4, 6, 8, 10, 12, 14, 1, 3, 5, 7, 9, 11, 13, 15);
+    int A[8], E[8];
+    float D[8];
+    for (int j = ja; j < jb; j += 8) {
+        const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(yp + j), vqy);
+        const __m256 dyz2 = _mm256_add_ps(_mm256_mul_ps(dy, dy), vdz2);
+        const __m256 half = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_sub_ps(vR2, dyz2)), vih);
+        const __m256 fa = _mm256_sub_ps(vcx, half), fb = _mm256_add_ps(vcx, half);
+        const __m256i ta = _mm256_cvttps_epi32(fa), tb = _mm256_cvttps_epi32(fb);
+        /* masks are -1: iceil t - (-1), ifloor t + (-1) */
+        __m256i a = _mm256_sub_epi32(ta, _mm256_castps_si256(_mm256_cmp_ps(fa, _mm256_cvtepi32_ps(ta), _CMP_GT_OQ)));
+        __m256i b = _mm256_add_epi32(tb, _mm256_castps_si256(_mm256_cmp_ps(fb, _mm256_cvtepi32_ps(tb), _CMP_LT_OQ)));
+        b = _mm256_add_epi32(b, one);
+        a = _mm256_max_epi32(a, vi0);
+        b = _mm256_min_epi32(b, vi1);
+        __m256i e = _mm256_add_epi32(a, _mm256_and_si256(_mm256_add_epi32(_mm256_sub_epi32(b, a), seven), not7));
+        /* rows in [ja, jb) within the support, with a chord */
+        __m256i ok = _mm256_cmpgt_epi32(_mm256_set1_epi32(jb - j), iota);
+        ok = _mm256_and_si256(ok, _mm256_castps_si256(_mm256_cmp_ps(dyz2, vR2, _CMP_LT_OQ)));
+        ok = _mm256_and_si256(ok, _mm256_cmpgt_epi32(b, a));
+        if (spr) {
+            const __m128i pr = _mm_shuffle_epi8(_mm_loadu_si128((const __m128i *)(spr + 2 * (size_t)j)), split);
+            const __m256i s0 = _mm256_cvtepu8_epi32(pr), s1 = _mm256_cvtepu8_epi32(_mm_srli_si128(pr, 8));
+            const __m256i lo = _mm256_max_epi32(a, s0), hi = _mm256_min_epi32(e, s1);
+            ok = _mm256_and_si256(ok, _mm256_cmpgt_epi32(hi, lo));
+            a = _mm256_add_epi32(a, _mm256_and_si256(_mm256_sub_epi32(lo, a), not7));
+            e = _mm256_add_epi32(a, _mm256_and_si256(_mm256_add_epi32(_mm256_sub_epi32(hi, a), seven), not7));
+        }
+        unsigned m = (unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(ok));
+        if (!m) continue;
+        _mm256_storeu_si256((__m256i *)A, a);
+        _mm256_storeu_si256((__m256i *)E, e);
+        _mm256_storeu_ps(D, dyz2);
+        do {
+            const int l = __builtin_ctz(m);
+            m &= m - 1;
+            row_avx2(slab + (size_t)(j + l) * ns, xp, A[l], E[l], qx, D[l], inv, wgt);
+        } while (m);
     }
 }
 
@@ -286,14 +360,14 @@ __attribute__((target("avx512f"))) INLINE void rowp1_avx512(float *row, __mmask1
     _mm512_mask_storeu_ps(row, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, row), _mm512_max_ps(l, _mm512_setzero_ps())));
 }
 
-static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 0, ) }
-static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_sse2, 1, ) }
+static void sample_sse2(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(row_sse2, 0), 0, ) }
+static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(row_sse2, 1), 1, ) }
 static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2, ) }
-__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 0, ) }
-__attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { SAMPLE_BODY(row_avx2, 1, ) }
+__attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { YPAD_AVX2 SAMPLE_BODY(ROWS_AVX2(0), 0, ) }
+__attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { YPAD_AVX2 SAMPLE_BODY(ROWS_AVX2(1), 1, ) }
 __attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2, ) }
-__attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(ROWD_AVX512, 0, SPREP_AVX512) }
-__attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWD_AVX512, 1, SPREP_AVX512) }
+__attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(ROWD_AVX512, 0), 0, SPREP_AVX512) }
+__attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(ROWD_AVX512, 1), 1, SPREP_AVX512) }
 __attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS)
 {
     PARTIAL_BODY(ROWP1_AVX512, PREP_AVX512)
