@@ -339,6 +339,38 @@ __attribute__((target("avx512f"))) INLINE void row_avx512d(float *row, const flo
     }
 }
 
+/* AVX2 partial rows (ROWP_AVX2): a particle's window [a, b) is at most 15
+ * nodes, one or two steps of 8, and its (xp - qx)^2 and lane masks are the
+ * same on every row: formed once per particle (PREP_AVX2P), with the
+ * operations rowp_avx2 does on each row (the same bits); the second step's
+ * loads only where the window has one (they stay within the padded row). */
+#define PREP_AVX2P                                                                                         \
+    const __m256i piota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);                                       \
+    const __m256 pq = _mm256_set1_ps(qx);                                                                  \
+    const __m256 pdx0 = _mm256_sub_ps(_mm256_loadu_ps(xp + a), pq);                                        \
+    const __m256 pdx1 = b - a > 8 ? _mm256_sub_ps(_mm256_loadu_ps(xp + a + 8), pq) : _mm256_setzero_ps(); \
+    const __m256 pd0 = _mm256_mul_ps(pdx0, pdx0), pd1 = _mm256_mul_ps(pdx1, pdx1);                        \
+    const __m256 pm0 = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(b - a), piota));           \
+    const __m256 pm1 = _mm256_castsi256_ps(_mm256_cmpgt_epi32(_mm256_set1_epi32(b - a - 8), piota));       \
+    const __m256 pa1 = _mm256_set1_ps(t[0]), pb1 = _mm256_set1_ps(t[1]), pa2 = _mm256_set1_ps(t[2]);       \
+    const __m256 pb2 = _mm256_set1_ps(t[3]);                                                               \
+    const int two = b - a > 8;
+#define ROWP_AVX2(row, xp_, a_, b_, qx_, dyz2, t_) rowp2_avx2((row) + a, two, pd0, pd1, pm0, pm1, dyz2, pa1, pb1, pa2, pb2)
+__attribute__((target("avx2"))) INLINE void rowp_step_avx2(float *row, __m256 dx2, __m256 m, __m256 vd, __m256 a1,
+                                                           __m256 b1, __m256 a2, __m256 b2)
+{
+    const __m256 s = _mm256_add_ps(dx2, vd);
+    const __m256 l = _mm256_max_ps(_mm256_sub_ps(a1, _mm256_mul_ps(b1, s)), _mm256_sub_ps(a2, _mm256_mul_ps(b2, s)));
+    _mm256_storeu_ps(row, _mm256_add_ps(_mm256_loadu_ps(row), _mm256_and_ps(m, _mm256_max_ps(l, _mm256_setzero_ps()))));
+}
+__attribute__((target("avx2"))) INLINE void rowp2_avx2(float *row, int two, __m256 d0, __m256 d1, __m256 m0, __m256 m1,
+                                                       float dyz2, __m256 a1, __m256 b1, __m256 a2, __m256 b2)
+{
+    const __m256 vd = _mm256_set1_ps(dyz2);
+    rowp_step_avx2(row, d0, m0, vd, a1, b1, a2, b2);
+    if (two) rowp_step_avx2(row + 8, d1, m1, vd, a1, b1, a2, b2);
+}
+
 /* AVX-512 partial rows in one step: a window is at most 2 K + 1 <= 15
  * nodes (PARTIAL_BODY), so one masked step covers it (masked loads: a window
  * may end within 16 lanes of its row's end), and its mask and (xp - qx)^2
@@ -365,7 +397,7 @@ static void sample_sse2_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(row_sse2, 1), 1
 static void partial_sse2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_sse2, ) }
 __attribute__((target("avx2"))) static void sample_avx2(SAMPLE_ARGS) { YPAD_AVX2 SAMPLE_BODY(ROWS_AVX2(0), 0, ) }
 __attribute__((target("avx2"))) static void sample_avx2_span(SAMPLE_ARGS) { YPAD_AVX2 SAMPLE_BODY(ROWS_AVX2(1), 1, ) }
-__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(rowp_avx2, ) }
+__attribute__((target("avx2"))) static void partial_avx2(SAMPLE_ARGS) { PARTIAL_BODY(ROWP_AVX2, PREP_AVX2P) }
 __attribute__((target("avx512f"))) static void sample_avx512(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(ROWD_AVX512, 0), 0, SPREP_AVX512) }
 __attribute__((target("avx512f"))) static void sample_avx512_span(SAMPLE_ARGS) { SAMPLE_BODY(ROWS_ONE(ROWD_AVX512, 1), 1, SPREP_AVX512) }
 __attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS)
