@@ -17,8 +17,11 @@
 #define JM_BOX_MAX_H 0.26
 /* Rows of boxes within JM_BOX_REACH of the support radius of a particle
  * get its terms (0.65 proves no node of the 1M block's interior, 0.7 all;
- * 0.8 keeps a margin). Speed only: any subset of terms is a bound. */
-#define JM_BOX_REACH 0.8f
+ * 0.75 keeps a margin: against 0.8, one thread, the 1M block 1402 -> 1313
+ * ms, the 8M block 9171 -> 8506 ms, the 100k block 248.0 -> 245.8 ms, the
+ * real frames of cmp.sh's set within 0.5 %; 0.7 loses near the surfaces,
+ * the 100k block 257.9 ms). Speed only: any subset of terms is a bound. */
+#define JM_BOX_REACH 0.75f
 
 /* 1 when the box pass applies to a block whose box [lo, hi] holds inner
  * particles (not isolated). */
