@@ -372,7 +372,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
          * sampled (cull.c, aniso_cull.c) */
         float proof = c->threshold;
         if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
-        else if (jm_sph_boxes_apply(c, inner, lo, hi)) { /* nine tenths full, fine lattice */
+        else if (jm_sph_boxes_apply(c, inner, lo, hi)) { /* JM_BOX_FILL full, fine lattice */
             proof = jm_sph_box_threshold(c, &s->hood);
             jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->boxes, s->part);
         } else {

@@ -62,7 +62,7 @@
  *    lower bounds whatever their particles and nodes: the rows and window
  *    a particle's terms cover are speed only.
  * 3b. Nodes proven inside by boxes (inside_boxes.c, jm_sph_box_threshold),
- *    in blocks nine tenths full on a fine lattice, instead of 3. A box is
+ *    in blocks JM_BOX_FILL full on a fine lattice, instead of 3. A box is
  *    the nodes x = c + d (up to 3 x 3 x 3) around a centre node c: of odd
  *    index along x (boxes overlap on their end nodes), of index 3 i + 1
  *    (at most the last node) along y and z (boxes tile), |d_a| <= e_a (e_a
@@ -116,7 +116,7 @@
  *
  * Speed only (never the result): the partial pass runs on blocks a third
  * full of particles or more (jm_sph_block_full), the box pass instead on
- * those nine tenths full when the lattice is fine (jm_sph_boxes_apply), and
+ * those JM_BOX_FILL full when the lattice is fine (jm_sph_boxes_apply), and
  * the outside proof is not tried there (a proof not tried skips nothing). Measured and left
  * out: upper bounds over sub-boxes of 4, 8 and 12 cubes for the outside
  * (the nodes they skip are the ones few particles reach: kernel lanes -3 %,
