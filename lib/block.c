@@ -12,6 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* bytes the inside flags' buffer holds past the block's nodes (row_configs) */
+#define JM_IN_SLACK 32
 /* Interpolation parameters are kept this far from the edge ends, so no two
  * vertices meet at a lattice node (no zero-area triangles). */
 #define JM_T_MIN 0.01f
@@ -19,7 +21,7 @@
 size_t jm_scratch_bytes(int B)
 {
     size_t n = (size_t)B + 1, nn = n * n * n;
-    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float) +
+    return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + JM_IN_SLACK + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float) +
            n * n * JM_PAD(n) * sizeof(float) + JM_CULL_SPAN_BYTES(n) + jm_box_work_bytes();
 }
 
@@ -29,7 +31,7 @@ int jm_scratch_init(jm_scratch *s, int B)
     memset(s, 0, sizeof *s);
     s->B = B;
     s->f = malloc(nn * sizeof *s->f);
-    s->in = malloc(nn);
+    s->in = malloc(nn + JM_IN_SLACK);
     s->win = malloc(nn * sizeof *s->win);
     s->pad = malloc(n * n * JM_PAD(n) * sizeof *s->pad);
     s->rowstate = malloc(n * n);
@@ -327,6 +329,45 @@ static size_t classify_row(const float *f, uint8_t *in, int i0, int i1, float th
 }
 #endif
 
+/* The configurations of the B cubes of a row (corner bits: 1 x, 2 y, 4 z;
+ * from the inside flags, 0 or 1, of the four node rows at its corners) into
+ * cfg[0 .. B - 1]; returns the bits of the cubes the surface cuts (neither
+ * 0 nor 255). Reads up to 16 bytes past the rows' B + 1 (the flags' buffer
+ * holds JM_IN_SLACK more). */
+#ifdef __SSE2__
+static uint32_t row_configs(const uint8_t *i00, const uint8_t *i10, const uint8_t *i01, const uint8_t *i11, int B,
+                            uint8_t cfg[32])
+{
+    uint32_t cut = 0;
+    const __m128i zero = _mm_setzero_si128(), ones = _mm_cmpeq_epi8(zero, zero);
+    for (int h = 0; h < B; h += 16) {
+        /* flags are 0 or 1: shifts within 16-bit lanes stay in their bytes */
+#define JM_LD(p, d) _mm_loadu_si128((const __m128i *)((p) + h + (d)))
+        __m128i c = _mm_or_si128(JM_LD(i00, 0), _mm_slli_epi16(JM_LD(i00, 1), 1));
+        c = _mm_or_si128(c, _mm_or_si128(_mm_slli_epi16(JM_LD(i10, 0), 2), _mm_slli_epi16(JM_LD(i10, 1), 3)));
+        c = _mm_or_si128(c, _mm_or_si128(_mm_slli_epi16(JM_LD(i01, 0), 4), _mm_slli_epi16(JM_LD(i01, 1), 5)));
+        c = _mm_or_si128(c, _mm_or_si128(_mm_slli_epi16(JM_LD(i11, 0), 6), _mm_slli_epi16(JM_LD(i11, 1), 7)));
+#undef JM_LD
+        _mm_storeu_si128((__m128i *)(cfg + h), c);
+        const unsigned same = (unsigned)_mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(c, zero), _mm_cmpeq_epi8(c, ones)));
+        cut |= (uint32_t)(~same & 0xffffu) << h;
+    }
+    return B < 32 ? cut & ((1u << B) - 1u) : cut;
+}
+#else
+static uint32_t row_configs(const uint8_t *i00, const uint8_t *i10, const uint8_t *i01, const uint8_t *i11, int B,
+                            uint8_t cfg[32])
+{
+    uint32_t cut = 0;
+    for (int i = 0; i < B; i++) {
+        cfg[i] = (uint8_t)(i00[i] | i00[i + 1] << 1 | i10[i] << 2 | i10[i + 1] << 3 | i01[i] << 4 | i01[i + 1] << 5 |
+                           i11[i] << 6 | i11[i + 1] << 7);
+        if (cfg[i] != 0 && cfg[i] != 255) cut |= 1u << i;
+    }
+    return cut;
+}
+#endif
+
 void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
 {
     const jm_config *c = env->c;
@@ -444,15 +485,11 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
             uint8_t a0 = rs[r0], a1 = rs[r0 + 1], a2 = rs[r0 + sn], a3 = rs[r0 + sn + 1];
             if (a0 != 2 && a0 == a1 && a0 == a2 && a0 == a3) continue;
             const uint8_t *i00 = s->in + row, *i10 = i00 + sn, *i01 = i00 + sn2, *i11 = i01 + sn;
-            /* corner bits: 1 x, 2 y, 4 z; walking +x the x=1 corners become x=0 */
-            unsigned cfg = (unsigned)i00[0] | (unsigned)i10[0] << 2 | (unsigned)i01[0] << 4 | (unsigned)i11[0] << 6;
-            for (int i = 0; i < B; i++) {
+            uint8_t cfgs[32];
+            for (uint32_t cut = row_configs(i00, i10, i01, i11, B, cfgs); cut; cut &= cut - 1) {
+                const int i = __builtin_ctz(cut);
                 size_t nd = row + i;
-                cfg = (cfg & 0x55u) | (unsigned)i00[i + 1] << 1 | (unsigned)i10[i + 1] << 3 |
-                      (unsigned)i01[i + 1] << 5 | (unsigned)i11[i + 1] << 7;
-                const unsigned cfg_here = cfg;
-                cfg >>= 1; /* this cube's x=1 corners are the next one's x=0 */
-                if (cfg_here == 0 || cfg_here == 255) continue;
+                const unsigned cfg_here = cfgs[i];
                 int nt = tab->ntri[cfg_here];
                 if (!grow(mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
                     out->failed = 1;
