@@ -1,6 +1,7 @@
 /* aniso_splat.c - the anisotropic SPH field on a block: kernels splatted row by row (AVX-512/AVX2/SSE2/C), every node, spans or partial sums. */
 #include "aniso_splat.h"
 #include "cull.h"
+#include "round8.h"
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -172,10 +173,8 @@ __attribute__((target("avx2"))) INLINE void an_rows_avx2(const an_slab *s, const
         __m256 hi = _mm256_add_ps(_mm256_add_ps(ccx, _mm256_mul_ps(_mm256_sub_ps(sq, B), sc)), slack);
         lo = _mm256_and_ps(ok, lo);
         hi = _mm256_blendv_ps(_mm256_set1_ps(-1.0f), hi, ok);
-        /* iceil and ifloor (field.h): truncate, then step by the compare */
-        const __m256i tl = _mm256_cvttps_epi32(lo), th = _mm256_cvttps_epi32(hi);
-        __m256i i0 = _mm256_sub_epi32(tl, _mm256_castps_si256(_mm256_cmp_ps(lo, _mm256_cvtepi32_ps(tl), _CMP_GT_OQ)));
-        __m256i i1 = _mm256_add_epi32(th, _mm256_castps_si256(_mm256_cmp_ps(hi, _mm256_cvtepi32_ps(th), _CMP_LT_OQ)));
+        /* iceil and ifloor (field.h), lane by lane (round8.h) */
+        __m256i i0 = jm_iceil8(lo), i1 = jm_ifloor8(hi);
         i0 = _mm256_max_epi32(i0, izero);
         i1 = _mm256_min_epi32(_mm256_add_epi32(i1, one), vn);
         _mm256_storeu_ps(Bv + r, B);

@@ -2,6 +2,7 @@
 #include "splat.h"
 #include "cull.h"
 #include "cubic8.h"
+#include "round8.h"
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -215,28 +216,11 @@ INLINE void rowp_sse2(float *row, const float *xp, int a, int b, float qx, float
     }
 }
 
-__attribute__((target("avx2"))) INLINE void rowp_avx2(float *row, const float *xp, int a, int b, float qx,
-                                                      float dyz2, const float t[4])
-{
-    const __m256 vq = _mm256_set1_ps(qx), vd = _mm256_set1_ps(dyz2), zero = _mm256_setzero_ps();
-    const __m256 a1 = _mm256_set1_ps(t[0]), b1 = _mm256_set1_ps(t[1]), a2 = _mm256_set1_ps(t[2]);
-    const __m256 b2 = _mm256_set1_ps(t[3]);
-    const __m256i vb = _mm256_set1_epi32(b), iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    for (int i = a; i < b; i += 8) {
-        __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(xp + i), vq);
-        __m256 s = _mm256_add_ps(_mm256_mul_ps(dx, dx), vd);
-        __m256 l = _mm256_max_ps(_mm256_sub_ps(a1, _mm256_mul_ps(b1, s)), _mm256_sub_ps(a2, _mm256_mul_ps(b2, s)));
-        __m256 m = _mm256_castsi256_ps(_mm256_cmpgt_epi32(vb, _mm256_add_epi32(_mm256_set1_epi32(i), iota)));
-        _mm256_storeu_ps(row + i, _mm256_add_ps(_mm256_loadu_ps(row + i), _mm256_and_ps(m, _mm256_max_ps(l, zero))));
-    }
-}
-
 /* AVX2 rows eight at a time (ROWS_AVX2): the setup ROWS_ONE does per row
  * (dy^2 + dz^2, the chord's half length, its whole steps of 8 and their cut
  * to the span) on eight rows' lanes, with the same IEEE operations (no
- * fused multiply-add in this target) and the same integer steps: iceil as
- * truncation plus (x > t), ifloor as truncation less (x < t), which agree
- * on the chord ends (within +-2^31); then row_avx2 on the rows left, in
+ * fused multiply-add in this target) and the same integer steps (round8.h,
+ * on the chord ends, well within +-2^31); then row_avx2 on the rows left, in
  * order. The same rows, runs and sums. yp: the block's y padded by 8 lanes
  * (YPAD_AVX2); spr: the slab's spans (2 bytes a row; the buffer holds 16
  * bytes past the last, JM_CULL_SPAN_BYTES) or NULL. */
@@ -264,11 +248,7 @@ __attribute__((target("avx2"))) INLINE void rows_avx2(float *slab, int ns, const
         const __m256 dyz2 = _mm256_add_ps(_mm256_mul_ps(dy, dy), vdz2);
         const __m256 half = _mm256_mul_ps(_mm256_sqrt_ps(_mm256_sub_ps(vR2, dyz2)), vih);
         const __m256 fa = _mm256_sub_ps(vcx, half), fb = _mm256_add_ps(vcx, half);
-        const __m256i ta = _mm256_cvttps_epi32(fa), tb = _mm256_cvttps_epi32(fb);
-        /* masks are -1: iceil t - (-1), ifloor t + (-1) */
-        __m256i a = _mm256_sub_epi32(ta, _mm256_castps_si256(_mm256_cmp_ps(fa, _mm256_cvtepi32_ps(ta), _CMP_GT_OQ)));
-        __m256i b = _mm256_add_epi32(tb, _mm256_castps_si256(_mm256_cmp_ps(fb, _mm256_cvtepi32_ps(tb), _CMP_LT_OQ)));
-        b = _mm256_add_epi32(b, one);
+        __m256i a = jm_iceil8(fa), b = _mm256_add_epi32(jm_ifloor8(fb), one);
         a = _mm256_max_epi32(a, vi0);
         b = _mm256_min_epi32(b, vi1);
         __m256i e = _mm256_add_epi32(a, _mm256_and_si256(_mm256_add_epi32(_mm256_sub_epi32(b, a), seven), not7));
@@ -341,8 +321,8 @@ __attribute__((target("avx512f"))) INLINE void row_avx512d(float *row, const flo
 
 /* AVX2 partial rows (ROWP_AVX2): a particle's window [a, b) is at most 15
  * nodes, one or two steps of 8, and its (xp - qx)^2 and lane masks are the
- * same on every row: formed once per particle (PREP_AVX2P), with the
- * operations rowp_avx2 does on each row (the same bits); the second step's
+ * same on every row: formed once per particle (PREP_AVX2P), each lane then
+ * doing rowp_sse2's operations (the same bits); the second step's
  * loads only where the window has one (they stay within the padded row). */
 #define PREP_AVX2P                                                                                         \
     const __m256i piota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);                                       \
