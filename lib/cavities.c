@@ -160,13 +160,12 @@ int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, f
     if (n == 0 || nt == 0) return 1;
     uint32_t *parent = roots ? roots : jm_alloc(mem, n * sizeof *parent);
     double *vol = jm_calloc(mem, n, sizeof *vol);
-    if (!parent || !vol) {
-        if (!roots) jm_free(mem, parent, n * sizeof *parent);
-        jm_free(mem, vol, n * sizeof *vol);
-        return 0;
+    int ok = parent && vol;
+    if (ok) {
+        jm_mesh_pieces(pool, parent, idx, n, nt);
+        ok = piece_volumes(mem, pool, pos, idx, nt, parent, vol);
     }
-    jm_mesh_pieces(pool, parent, idx, n, nt);
-    if (!piece_volumes(mem, pool, pos, idx, nt, parent, vol)) {
+    if (!ok) {
         if (!roots) jm_free(mem, parent, n * sizeof *parent);
         jm_free(mem, vol, n * sizeof *vol);
         return 0;
