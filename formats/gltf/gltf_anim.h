@@ -40,6 +40,11 @@ void jmf_anim_piece_free(jmf_anim_piece *p);
 
 typedef struct jmf_anim jmf_anim;
 
+/* The largest file jmf_anim writes: 2 GiB. The Khronos glTF-Validator (and
+ * other tools with 32-bit signed sizes) refuse larger files, and GLB's
+ * 32-bit lengths end at 4 GiB; a longer run is one file per frame. */
+#define JMF_ANIM_MAX_BYTES ((size_t)2 << 30)
+
 /** The glTF builder's parameters jmf_write_mesh would use for mesh (writer.c). */
 void jmf_write_gltf_params(const jmf_write_options *opt, const jm_mesh *mesh, int draco, const char *name,
                            jmf_gltf_params *p);
@@ -48,13 +53,22 @@ void jmf_write_gltf_params(const jmf_write_options *opt, const jm_mesh *mesh, in
  *  for frames shown fps per second. */
 jmf_status jmf_anim_open(const char *path, int glb, const jmf_write_options *opt, double fps, jmf_anim **out,
                          char *err, size_t errlen);
+/** Sets the largest file a may write, in bytes (0: JMF_ANIM_MAX_BYTES). For
+ *  tests only (the CLI's JETMESH_TEST_ANIMATE_LIMIT): the refusal without
+ *  writing 2 GiB. */
+void jmf_anim_set_limit(jmf_anim *a, size_t bytes);
+/** The size the file would have if finished now (its frames' bytes, the JSON
+ *  as estimated, GLB's framing): what the limit is checked against. */
+size_t jmf_anim_bytes(const jmf_anim *a);
 /** Adds the next frame as node node_name with frame number number; piece
  *  NULL: a frame that failed (an empty node keeps the others' times). Takes
- *  the piece (freed here). */
+ *  the piece (freed here). JMF_E_LIMIT, adding nothing, when the file would
+ *  pass the limit (the message says why and what to write instead). */
 jmf_status jmf_anim_add(jmf_anim *a, const char *node_name, long number, jmf_anim_piece *piece, char *err,
                         size_t errlen);
 /** Writes the JSON and assembles the file, staged (jmf_staged_publish
- *  renames it into place); frees a. out_bytes: the bytes of all files. */
+ *  renames it into place); frees a. out_bytes: the bytes of all files.
+ *  JMF_E_LIMIT when the finished file would pass the limit. */
 jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_bytes, char *err, size_t errlen);
 /** Removes every temporary and frees a. NULL is allowed. */
 void jmf_anim_abort(jmf_anim *a);
