@@ -18,6 +18,11 @@ extern "C" {
  * exactly one frame shows at a time in any player (Blender's importer makes
  * one object per frame, each visible at its frame). asset.extras holds
  * {"jetmesh_sequence": {"fps": F, "frames": N, "frame_numbers": [...]}}.
+ * Why scale keys: glTF animates no visibility but through KHR_node_visibility
+ * (with KHR_animation_pointer), which Blender 3.4's importer ignores (every
+ * frame would show at once); Cycles aborts on a 0<->1 scale inside its
+ * shutter, so Blender streams the frames instead (jetmesh_blender.py reads
+ * them from this file itself, by frame_numbers).
  *
  * Streaming: each frame's bytes go to a temporary beside the output as the
  * frame is added (a .gltf: its .bin itself; a .glb: the atomic writer's
