@@ -43,6 +43,13 @@ HOME=$T blender -b --factory-startup -y "$T/scene.blend" --python-exit-code 1 \
     { tail -n 30 "$T/reopen.log"; fail "reopen"; }
 grep -q '^check_sequence: ok' "$T/reopen.log" || { tail -n 30 "$T/reopen.log"; fail "reopen: no verdict"; }
 echo "ok: the saved .blend reopened with -y loads frames by itself"
+# ... or, without -y, with the script installed and enabled as an add-on
+mkdir -p "$T/scripts/addons" && cp "$SCRIPT" "$T/scripts/addons/"
+HOME=$T BLENDER_USER_SCRIPTS=$T/scripts blender -b --factory-startup "$T/scene.blend" --addons jetmesh_blender \
+    --python-exit-code 1 --python "$CHECK" -- "$SCRIPT" reopen "$T/d" "$T/d/f_%d.glb" 1 200 >"$T/addon.log" 2>&1 ||
+    { tail -n 30 "$T/addon.log"; fail "reopen with the add-on"; }
+grep -q '^check_sequence: ok' "$T/addon.log" || { tail -n 30 "$T/addon.log"; fail "reopen with the add-on: no verdict"; }
+echo "ok: the saved .blend reopened with the add-on enabled (no -y) loads frames"
 
 # 3. the command-line render of frames 5-7 (blender -b scene.blend -y -a)
 HOME=$T blender -b --factory-startup -y "$T/scene.blend" --python "$CHECK" -o "$T/r_###" -s 5 -e 7 -a \
