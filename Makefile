@@ -1,7 +1,8 @@
 # Makefile - builds libjetmesh (static + shared), the jetmesh CLI, tests, demo, bench and fuzzers.
 #
-#   make            library, CLI               make check   every test (installs deps)
+#   make            library, CLI               make check   every test (installs build + test deps)
 #   make demo       convert the jet sample     make bench   benchmark suite -> BENCHMARKS.md
+#                   (installs build deps only)
 #   make fuzz       run the fuzzers            make install PREFIX=/usr/local
 #   make kill-soak  signals at random moments, cores loaded (the long kill test)
 #   make pictures   the README's renders (docs/*.png, headless Blender)
@@ -91,7 +92,8 @@ deps:
 deps-build:
 	@scripts/deps.sh build
 
-# The test command: installs what is missing, builds, runs every test.
+# The test command: installs what is missing (build packages and the test
+# tools: Blender, Slurm, munge, node...), builds, runs every test.
 check: deps
 	@$(MAKE) --no-print-directory all tests-build
 	@tests/run_all.sh $(BUILD)
@@ -118,8 +120,9 @@ kill-soak: tests-build
 pictures: all
 	@scripts/pictures.sh $(BUILD)
 
-# The main job: convert the shipped jet sequence (see README).
-demo: deps
+# The main job: convert the shipped jet sequence (see README). Installs the
+# build packages only (the test tools: make check).
+demo: deps-build
 	@$(MAKE) --no-print-directory all
 	@scripts/demo.sh $(BUILD)
 

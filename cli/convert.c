@@ -63,6 +63,9 @@ typedef struct run {
     size_t planned; /* frames of the whole run, all shards together */
     jmf_anim *anim;     /* --animate: the one file being written */
     int anim_failed;    /* a frame could not be added to it */
+    int anim_full;      /* it would pass its size limit: the run stops */
+    int anim_warned;    /* the warning that it is heading past the limit is out */
+    size_t anim_limit;  /* its limit: JMF_ANIM_MAX_BYTES, or JETMESH_TEST_ANIMATE_LIMIT */
 } run;
 
 static int is_gltf_family(int f)
@@ -193,9 +196,8 @@ static int plan_outputs(run *r)
     if (o->attributes && !jmf_format_holds_attributes(fmt, o->write.draco))
         return options_usage_error("convert",
                                    "%s cannot hold per-vertex attributes (--attributes): write glTF/GLB "
-                                   "without Draco, PLY or VTK",
-                                   o->write.draco ? "Draco-compressed glTF" : fmt == JMF_OUT_DRC ? "a bare Draco .drc"
-                                   : jmf_output_format_name((jmf_output_format)fmt));
+                                   "(Draco or not), .drc, PLY or VTK",
+                                   jmf_output_format_name((jmf_output_format)fmt));
     if (o->animate && !is_gltf_family(fmt))
         return options_usage_error("convert", "--animate writes one glTF: give -o NAME.glb or NAME.gltf, not %s",
                                    jmf_output_format_name((jmf_output_format)fmt));
@@ -656,6 +658,29 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
     rec->bytes = bytes;
 }
 
+/* --animate: once, when the frames so far, at their mean size, would take
+ * the whole run past the file's limit, a warning (the run goes on: frames
+ * may shrink; it stops when the file really would pass the limit). */
+static void animation_forecast(run *r, const job *jb)
+{
+    size_t done = (size_t)(jb - r->jobs) + 1;
+    if (r->anim_warned || done < 4 || done >= r->njobs)
+        return;
+    double bytes = (double)jmf_anim_bytes(r->anim);
+    if (bytes / (double)done * (double)r->njobs <= (double)r->anim_limit)
+        return;
+    r->anim_warned = 1;
+    progress_clear(&r->bar);
+    char b1[32], b2[32];
+    fprintf(stderr,
+            "jetmesh: warning: %zu frames made %s of %s; at that rate its %zu frames would pass the %s an "
+            "animated file may hold, and the run will stop there: one file per frame (-o 'DIR/frame_{}.glb') "
+            "has no such limit\n",
+            done, platform_format_bytes((size_t)bytes, b1, sizeof b1), r->o->output, r->njobs,
+            platform_format_bytes(r->anim_limit, b2, sizeof b2));
+    fflush(stderr);
+}
+
 /* Takes a frame's outcome in its turn: publishes its output (renamed into
  * place), logs it and prints its line. 0 when it went well (or was
  * skipped). */
@@ -682,10 +707,17 @@ static int report(run *r, const job *jb, outcome *oc)
         if (pc == NULL)
             jmf_anim_piece_free(oc->piece);
         oc->piece = NULL;
-        if (jmf_anim_add(r->anim, name, jb->in->index, pc, err, sizeof err) != JMF_OK) {
+        jmf_status as = jmf_anim_add(r->anim, name, jb->in->index, pc, err, sizeof err);
+        if (as == JMF_E_LIMIT) {
+            /* the file cannot hold the run: every frame after this one is wasted work */
+            outcome_fail(oc, err, EXIT_RESOURCE);
+            r->anim_failed = r->anim_full = 1;
+        } else if (as != JMF_OK) {
             if (oc->rec.status == STATS_OK)
                 outcome_fail(oc, err, EXIT_SOME_FAILED);
             r->anim_failed = 1;
+        } else {
+            animation_forecast(r, jb);
         }
         oc->rec.ms_write += platform_now_ms() - t0;
     } else if (oc->rec.status == STATS_OK) {
@@ -883,7 +915,7 @@ static void convert_all(run *r)
         if (fm)
             farm_taken(fm, i);
         progress_update(&r->bar, i + 1);
-        if (!ok && !r->o->keep_going)
+        if (!ok && (!r->o->keep_going || r->anim_full))
             stopped = 1;
     }
     farm_stop(fm);
@@ -932,7 +964,10 @@ static void list_failures(const run *r)
                 r->empty);
     if (r->failed == 0)
         return;
-    if (!r->o->keep_going) {
+    if (r->anim_full) {
+        fprintf(stderr, "jetmesh: stopped: %s cannot hold the whole run; %zu frames not converted\n", r->o->output,
+                r->njobs - r->log.count);
+    } else if (!r->o->keep_going) {
         if (r->log.count < r->njobs)
             fprintf(stderr,
                     "jetmesh: stopped at the first failure; %zu frames not converted "
@@ -959,7 +994,8 @@ static void finish_animation(run *r)
     if (r->log.count < r->njobs || r->anim_failed || r->failed == r->njobs) {
         jmf_anim_abort(a);
         fprintf(stderr, "jetmesh: %s not written: %s\n", r->o->output,
-                r->failed == r->njobs ? "no frame converted" : "not every frame went in");
+                r->anim_full ? "it would pass the size limit" : r->failed == r->njobs ? "no frame converted"
+                                                                           : "not every frame went in");
         if (r->worst < EXIT_SOME_FAILED)
             r->worst = EXIT_SOME_FAILED;
         return;
@@ -1117,6 +1153,12 @@ int cmd_convert(int argc, char **argv)
             rc = EXIT_SOME_FAILED;
             goto done;
         }
+        /* tests only: a lower limit, so the refusal is tested without writing 2 GiB */
+        const char *lim = getenv("JETMESH_TEST_ANIMATE_LIMIT");
+        r.anim_limit = lim && *lim ? (size_t)strtoull(lim, NULL, 10) : 0;
+        jmf_anim_set_limit(r.anim, r.anim_limit);
+        if (!r.anim_limit)
+            r.anim_limit = JMF_ANIM_MAX_BYTES;
     }
     progress_init(&r.bar, r.njobs, !o.quiet);
     convert_all(&r);

@@ -24,8 +24,8 @@ static void usage(FILE *f)
           "\n"
           "  jetmesh --help      this help\n"
           "  jetmesh --version   the version\n"
-          "  jetmesh --blender-script   the path of the Blender importer of sequences:\n"
-          "                      blender --python \"$(jetmesh --blender-script)\" -- out.glb\n"
+          "  jetmesh --blender-script   the path of the Blender streaming importer:\n"
+          "                      blender --python \"$(jetmesh --blender-script)\" -- meshes/\n"
           "\n"
           "Example: jetmesh convert 'frames/jet_{}.csv' -r 0.025 -o 'meshes/jet_{}.glb'\n"
           "See jetmesh(1) and 'jetmesh COMMAND --help'.\n",

@@ -124,8 +124,9 @@ void options_convert_help(FILE *f)
         "Sequences (Blender, ParaView, the web):\n"
         "      --animate               every frame into the one -o file (.glb or .gltf):\n"
         "                              one node per frame, shown at its time by a STEP\n"
-        "                              scale animation (Blender: one object per frame;\n"
-        "                              see jetmesh --blender-script)\n"
+        "                              scale animation; at most 2 GiB (a longer run:\n"
+        "                              one file per frame, which Blender streams: see\n"
+        "                              jetmesh --blender-script)\n"
         "      --fps F                 frames per second of --animate and of the .pvd\n"
         "                              times (default 24)\n"
         "      --pvd                   VTK/PLY sequences: a ParaView collection NAME.pvd\n"
@@ -134,6 +135,7 @@ void options_convert_help(FILE *f)
         "      --attributes LIST|all   per-particle arrays (velocity,density,...; from\n"
         "                              VTK, VTU, BGEO, PLY or CSV) interpolated to the\n"
         "                              vertices with SPH weights: glTF _VELOCITY-style\n"
+        "                              attributes (with --draco too), .drc generic\n"
         "                              attributes, PLY properties, VTK point data\n"
         "\n"
         "Running:\n"
@@ -157,7 +159,8 @@ void options_convert_help(FILE *f)
         "      --version               print the version\n"
         "\n"
         "Exit status: 0 all frames converted, 1 some failed, 2 usage error,\n"
-        "3 out of memory, over --max-memory or internal error. See jetmesh(1).\n",
+        "3 out of memory, over --max-memory, an --animate file over 2 GiB or internal\n"
+        "error. See jetmesh(1).\n",
         f);
 }
 

@@ -5,9 +5,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <vector>
 
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
+#include <draco/metadata/geometry_metadata.h>
+#include <memory>
 
 namespace {
 
@@ -26,8 +29,8 @@ int add_attribute(draco::Mesh &m, draco::GeometryAttribute::Type type, int comps
     return id;
 }
 
-jmf_status encode(const jm_mesh *mesh, const jmf_draco_params *p, const char *name,
-                  jmf_draco_blob *out, char *err, size_t errlen)
+jmf_status encode(const jm_mesh *mesh, const jmf_attribute *attrs, size_t nattrs, const jmf_draco_params *p,
+                  const char *name, jmf_draco_blob *out, char *err, size_t errlen)
 {
     jmf_draco_params d;
     jmf_draco_params_default(&d);
@@ -35,7 +38,8 @@ jmf_status encode(const jm_mesh *mesh, const jmf_draco_params *p, const char *na
     const int nrm_bits = pick(p ? p->normal_bits : 0, d.normal_bits);
     const int uv_bits = pick(p ? p->uv_bits : 0, d.uv_bits);
     const int speed = p && p->speed >= 0 ? p->speed : d.speed;
-    if (pos_bits > 30 || nrm_bits > 30 || uv_bits > 30 || speed > 10) {
+    const int att_bits = pick(p ? p->attribute_bits : 0, d.attribute_bits);
+    if (pos_bits > 30 || nrm_bits > 30 || uv_bits > 30 || att_bits > 30 || speed > 10) {
         std::snprintf(err, errlen,
                       "%s: Draco quantization bits must be 1-30 and speed 0-10 "
                       "(got %d/%d/%d bits, speed %d)", name, pos_bits, nrm_bits, uv_bits, speed);
@@ -76,11 +80,29 @@ jmf_status encode(const jm_mesh *mesh, const jmf_draco_params *p, const char *na
         std::snprintf(err, errlen, "%s: Draco could not create the mesh attributes", name);
         return JMF_E_NOMEM;
     }
+    // per-vertex attributes: GENERIC, named by metadata
+    std::vector<int> gen(nattrs, -1);
+    for (size_t a = 0; a < nattrs; a++) {
+        const jmf_attribute *at = &attrs[a];
+        if (at->components < 1 || at->components > 4 || !at->values || !at->name) {
+            std::snprintf(err, errlen, "%s: attribute %zu has no name, values or 1-4 components", name, a);
+            return JMF_E_FORMAT;
+        }
+        gen[a] = add_attribute(m, draco::GeometryAttribute::GENERIC, at->components, at->values, nv);
+        if (gen[a] < 0) {
+            std::snprintf(err, errlen, "%s: Draco could not create the attribute '%s'", name, at->name);
+            return JMF_E_NOMEM;
+        }
+        std::unique_ptr<draco::AttributeMetadata> md(new draco::AttributeMetadata());
+        md->AddEntryString("name", at->name);
+        m.AddAttributeMetadata(gen[a], std::move(md));
+    }
 
     draco::Encoder enc;
     enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, pos_bits);
     enc.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, nrm_bits);
     enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, uv_bits);
+    enc.SetAttributeQuantization(draco::GeometryAttribute::GENERIC, att_bits);
     enc.SetSpeedOptions(speed, speed);
     enc.SetEncodingMethod(draco::MESH_EDGEBREAKER_ENCODING);
     enc.SetTrackEncodedProperties(true);
@@ -102,6 +124,16 @@ jmf_status encode(const jm_mesh *mesh, const jmf_draco_params *p, const char *na
     out->position_id = static_cast<int>(m.attribute(pos_att)->unique_id());
     out->normal_id = nrm_att >= 0 ? static_cast<int>(m.attribute(nrm_att)->unique_id()) : -1;
     out->uv_id = uv_att >= 0 ? static_cast<int>(m.attribute(uv_att)->unique_id()) : -1;
+    if (nattrs) {
+        out->attribute_ids = static_cast<int *>(std::malloc(nattrs * sizeof(int)));
+        if (!out->attribute_ids) {
+            std::snprintf(err, errlen, "%s: out of memory", name);
+            return JMF_E_NOMEM;
+        }
+        for (size_t a = 0; a < nattrs; a++)
+            out->attribute_ids[a] = static_cast<int>(m.attribute(gen[a])->unique_id());
+        out->attribute_count = nattrs;
+    }
     return JMF_OK;
 }
 
@@ -113,11 +145,19 @@ extern "C" void jmf_draco_params_default(jmf_draco_params *p)
     p->normal_bits = JMF_DRACO_NORMAL_BITS;
     p->uv_bits = JMF_DRACO_UV_BITS;
     p->speed = JMF_DRACO_SPEED;
+    p->attribute_bits = JMF_DRACO_ATTRIBUTE_BITS;
 }
 
 extern "C" jmf_status jmf_draco_encode(const jm_mesh *mesh, const jmf_draco_params *p,
                                        const char *name, jmf_draco_blob *out,
                                        char *err, size_t errlen)
+{
+    return jmf_draco_encode_attributes(mesh, nullptr, 0, p, name, out, err, errlen);
+}
+
+extern "C" jmf_status jmf_draco_encode_attributes(const jm_mesh *mesh, const jmf_attribute *attrs, size_t nattrs,
+                                                  const jmf_draco_params *p, const char *name, jmf_draco_blob *out,
+                                                  char *err, size_t errlen)
 {
     if (!out) return JMF_E_NOMEM;
     std::memset(out, 0, sizeof *out);
@@ -128,7 +168,9 @@ extern "C" jmf_status jmf_draco_encode(const jm_mesh *mesh, const jmf_draco_para
         return JMF_E_FORMAT;
     }
     try {
-        return encode(mesh, p, name, out, err, errlen);
+        const jmf_status st = encode(mesh, attrs, nattrs, p, name, out, err, errlen);
+        if (st) jmf_draco_blob_free(out);
+        return st;
     } catch (const std::bad_alloc &) {
         std::snprintf(err, errlen, "%s: out of memory in the Draco encoder", name);
     } catch (const std::exception &e) {
@@ -142,6 +184,7 @@ extern "C" void jmf_draco_blob_free(jmf_draco_blob *blob)
 {
     if (!blob) return;
     std::free(blob->data);
+    std::free(blob->attribute_ids);
     std::memset(blob, 0, sizeof *blob);
     blob->normal_id = blob->uv_id = -1;
 }

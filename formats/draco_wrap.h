@@ -26,12 +26,17 @@ extern "C" {
 #define JMF_DRACO_NORMAL_BITS 10
 #define JMF_DRACO_UV_BITS 12
 #define JMF_DRACO_SPEED 5
+/* Per-vertex attributes (velocity, density...) as Draco GENERIC attributes:
+ * each quantised over its own largest component range R, so 16 bits keep
+ * every value within R/65535/2 (a velocity of range 10 m/s: 8e-5 m/s). */
+#define JMF_DRACO_ATTRIBUTE_BITS 16
 
 typedef struct jmf_draco_params {
     int position_bits; /**< 1-30; <= 0: JMF_DRACO_POSITION_BITS */
     int normal_bits;   /**< 1-30; <= 0: JMF_DRACO_NORMAL_BITS */
     int uv_bits;       /**< 1-30; <= 0: JMF_DRACO_UV_BITS */
     int speed;         /**< 0 (best compression) - 10 (fastest); < 0: JMF_DRACO_SPEED */
+    int attribute_bits; /**< generic attributes: 1-30; <= 0: JMF_DRACO_ATTRIBUTE_BITS */
 } jmf_draco_params;
 
 /** A Draco-compressed mesh, owned by the caller: free with jmf_draco_blob_free(). */
@@ -43,6 +48,8 @@ typedef struct jmf_draco_blob {
     int position_id;   /**< Draco unique attribute ids (for KHR_draco_mesh_compression) */
     int normal_id;     /**< -1 when the mesh has no normals */
     int uv_id;         /**< -1 when the mesh has no uvs */
+    int *attribute_ids; /**< the generic attributes' unique ids, in the order given */
+    size_t attribute_count;
 } jmf_draco_blob;
 
 /** Fills p with the defaults. */
@@ -56,6 +63,16 @@ void jmf_draco_params_default(jmf_draco_params *p);
 jmf_status jmf_draco_encode(const jm_mesh *mesh, const jmf_draco_params *p,
                             const char *name, jmf_draco_blob *out,
                             char *err, size_t errlen);
+
+/**
+ * jmf_draco_encode with per-vertex attributes (values: components per mesh
+ * vertex, 1 to 4) as Draco GENERIC attributes, each named by an attribute
+ * metadata entry "name" (what draco3d's GetAttributeIdByMetadataEntry finds),
+ * quantised with p->attribute_bits; their unique ids in out->attribute_ids.
+ */
+jmf_status jmf_draco_encode_attributes(const jm_mesh *mesh, const jmf_attribute *attrs, size_t nattrs,
+                                       const jmf_draco_params *p, const char *name, jmf_draco_blob *out,
+                                       char *err, size_t errlen);
 
 /** Frees the buffer and zeroes the blob. NULL is allowed. */
 void jmf_draco_blob_free(jmf_draco_blob *blob);

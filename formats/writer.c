@@ -156,7 +156,8 @@ static jmf_status write_drc(const char *path, const jm_mesh *mesh, const jmf_wri
 {
     jmf_draco_params p = draco_params(opt, mesh);
     jmf_draco_blob blob;
-    jmf_status st = jmf_draco_encode(mesh, &p, path, &blob, err, errlen);
+    jmf_status st = jmf_draco_encode_attributes(mesh, opt ? opt->attributes : NULL, opt ? opt->attribute_count : 0,
+                                                &p, path, &blob, err, errlen);
     if (st) return st;
     st = write_bytes(path, blob.data, blob.size, opt && opt->no_sync, bytes, stage, err, errlen);
     jmf_draco_blob_free(&blob);
@@ -258,16 +259,16 @@ static jmf_status write_gltf(const char *path, const jm_mesh *mesh, int glb, int
 
 int jmf_format_holds_attributes(int f, int draco)
 {
-    return f == JMF_OUT_PLY || f == JMF_OUT_VTK || ((f == JMF_OUT_GLTF || f == JMF_OUT_GLB) && !draco);
+    (void)draco; /* Draco carries them as GENERIC attributes, in .drc and in glTF */
+    return f == JMF_OUT_PLY || f == JMF_OUT_VTK || f == JMF_OUT_GLTF || f == JMF_OUT_GLB || f == JMF_OUT_DRC;
 }
 
 jmf_status jmf_check_attributes(const char *path, int f, int draco, const jm_mesh *mesh,
                                 const jmf_write_options *opt, char *err, size_t errlen)
 {
     if (!jmf_format_holds_attributes(f, draco)) {
-        snprintf(err, errlen, "%s: %s cannot hold per-vertex attributes such as '%s': write glTF/GLB (without "
-                 "Draco), PLY or VTK, or leave out --attributes", path,
-                 f == JMF_OUT_DRC ? "a bare Draco .drc" : draco ? "Draco-compressed glTF" :
+        snprintf(err, errlen, "%s: %s cannot hold per-vertex attributes such as '%s': write glTF/GLB (Draco or "
+                 "not), .drc, PLY or VTK, or leave out --attributes", path,
                  jmf_output_format_name((jmf_output_format)f), opt->attributes[0].name);
         return JMF_E_UNSUPPORTED;
     }

@@ -39,8 +39,11 @@ typedef struct jmf_write_options {
                                    per mesh vertex; names of letters, digits and
                                    '_'), e.g. from jm_interpolate_attributes:
                                    glTF "_NAME" accessors (upper case; 3-vectors
-                                   rotated with z_up), PLY properties, VTK point
-                                   data. OBJ and .drc cannot hold them: an error. */
+                                   rotated with z_up; with Draco, GENERIC
+                                   attributes in the compressed primitive), .drc
+                                   GENERIC attributes named by metadata, PLY
+                                   properties, VTK point data. OBJ cannot hold
+                                   them: an error. */
     size_t attribute_count;
 } jmf_write_options;
 

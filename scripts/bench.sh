@@ -202,6 +202,18 @@ else
 fi
 # --- end of the whole-process block ----------------------------------------------
 
+# --- the Blender streaming import at real scale (issue 32) ------------------------
+# 500 frames of a real 6,859-particle frame, moving, as per-frame GLBs with
+# velocities: headless Blender opens them with share/jetmesh/jetmesh_blender.py
+# and steps to 40 random frames (scripts/bench_blender.sh; skipped without
+# Blender). QUICK: 60 frames.
+BLENDER_DIR="$OUT/blender"
+bl_frames=500
+[ -n "$QUICK" ] && bl_frames=60
+echo "== blender: $bl_frames frames of 6,859 particles streamed into headless Blender"
+BENCH_BLENDER_FRAMES=$bl_frames JETMESH_SHARED="$SHARED" scripts/bench_blender.sh "$BUILD" "$BLENDER_DIR" || status=1
+echo "BENCH_BLENDER_FRAMES=$bl_frames scripts/bench_blender.sh $BUILD $BLENDER_DIR   (Blender streaming import)" >>"$OUT/commands.sh"
+
 # --- build/bench.json -------------------------------------------------------------
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo "?")
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
@@ -226,8 +238,11 @@ jstr() { printf '"%s"' "$(printf '%s' "$1" | sed 's/\\/\\\\/g; s/"/\\"/g')"; }
   printf '\n  ],\n  "sequence": {"frames": 100, "rounds": %s, "glb_files": %s, "ok": %s, "convert_s": %s, ' \
     "$ROUNDS" "$seq_files" "$seq_ok" "$seq_s"
   printf '"one_at_a_time_s": %s, "no_sync_s": %s, ' "$one_s" "$nosync_s"
-  printf '"process_starts": 100, "starts_s": %s,\n    "convert_command": %s, "starts_command": %s}\n}\n' \
+  printf '"process_starts": 100, "starts_s": %s,\n    "convert_command": %s, "starts_command": %s},\n' \
     "$starts_s" "$(jstr "$seq_cmd")" "$(jstr "$starts_cmd")"
+  printf '  "blender": '
+  if [ -s "$BLENDER_DIR/blender.json" ]; then cat "$BLENDER_DIR/blender.json"; else printf 'null'; fi
+  printf '\n}\n'
 } >"$BUILD/bench.json"
 echo "wrote $BUILD/bench.json"
 
@@ -356,6 +371,16 @@ row("100k block, mc, 1 thread: --anisotropic ≤ 2× the isotropic field",
     ai1 && aa1 ? `${f(sec(aa1), 3)} s against ${f(sec(ai1), 3)} s (${f(sec(aa1) / sec(ai1), 2)}×)` : "–",
     ai1 && aa1 ? sec(aa1) <= 2 * sec(ai1) : null);
 const SQ = B.sequence;
+// issue 32: the Blender streaming import of a 500-frame run
+const BL = B.blender;
+if (BL) {
+  row(`Blender opens a ${BL.frames}-frame run of 6,859 particles (per-frame GLBs, velocities) in ≤ 30 s within 2 GB`,
+      `${f(BL.open_s, 2)} s; process peak ${mb(BL.peak_rss_bytes)} MB (${mb(BL.rss_before_bytes)} MB before)`,
+      BL.open_s <= 30 && BL.peak_rss_bytes <= 2e9);
+  row("moving to any frame takes ≤ 1 s (40 random frames, none cached: the slowest)",
+      `${f(BL.random_uncached.max_ms / 1e3, 2)} s (median ${f(BL.random_uncached.median_ms / 1e3, 2)} s)`,
+      BL.random_uncached.max_ms <= 1000);
+}
 row("100-frame jet sequence to GLB faster than 100 process starts (medians)",
     SQ.convert_s != null && SQ.starts_s != null ? `${f(SQ.convert_s)} s against ${f(SQ.starts_s)} s (${f(SQ.starts_s / SQ.convert_s, 2)}×)` : "–",
     SQ.convert_s != null && SQ.starts_s != null && SQ.ok ? SQ.convert_s < SQ.starts_s : null);
@@ -485,6 +510,25 @@ p(`| 100 × \`jetmesh --version\` (process start and exit) | ${f(S.starts_s)} |`
 p();
 p("```sh\n" + S.convert_command + "\n" + S.convert_command + " --frame-jobs 1\n" + S.convert_command + " --no-sync\n" + S.starts_command + "\n```");
 p();
+if (BL) {
+  p(`## Blender: a ${BL.frames}-frame run streamed`);
+  p();
+  p(`\`scripts/bench_blender.sh\`: ${BL.frames} frames (numbers ${BL.first}-${BL.last}) of SPlisHSPlasH's 6,859-particle ` +
+    "dam-break frame, sloshing along x, converted with `--attributes velocity` to per-frame GLBs (about 57,000 " +
+    "vertices and 114,000 triangles each), opened by `jetmesh_blender.open_sequence` in headless Blender " +
+    `${BL.blender} (file names, the first frame shown), then \`scene.frame_set\` to 40 frames in a seeded random ` +
+    "order (each read from its file), 20 consecutive frames, and 8 of the 40 again from the cache of 8. " +
+    "Blender's own normals (the default outside renders), milliseconds of wall time.");
+  p();
+  p("| what | median | slowest |");
+  p("|---|--:|--:|");
+  p(`| open | ${f(BL.open_s * 1e3, 0)} | |`);
+  for (const [k, t] of [["random_uncached", "40 random frames, from their files"], ["playback", "20 consecutive frames"],
+                        ["cached", "8 frames from the cache"]])
+    p(`| ${t} | ${f(BL[k].median_ms, 0)} | ${f(BL[k].max_ms, 0)} |`);
+  p(`| process memory: before / after the open / peak, MB | ${mb(BL.rss_before_bytes)} / ${mb(BL.rss_after_open_bytes)} | ${mb(BL.peak_rss_bytes)} |`);
+  p();
+}
 p("## Commands");
 p();
 p("Every command of this run, in order (`$JETMESH_SHARED` = `" + B.shared + "`):");

@@ -45,15 +45,16 @@ Done. Everything is in $OUT/:
   stats.csv, stats_draco.json        per-frame timings and a summary
   stats.svg                          time per frame by stage (open in a browser)
 
-The whole sequence in Blender, in one step (frame range 0-99, 24 fps, one
-object per frame, each visible at its frame; press Space to play):
+The whole sequence in Blender, streamed as one object (frame range 0-99,
+24 fps; each frame's mesh read when the frame changes; press Space to play):
+  blender --python "$script" -- $OUT/glb
+or the one animated file the same way:
   blender --python "$script" -- $OUT/jet_animated.glb
-(after make install: blender --python "\$(jetmesh --blender-script)" -- FILE.glb;
-or File > Import > glTF 2.0 of $OUT/jet_animated.glb, then set the scene's
-frame range to 0-99.) One frame: File > Import > glTF 2.0, pick
-$OUT/glb/jet_050.glb (or the Draco one: Blender's importer decodes
-KHR_draco_mesh_compression). The jet is +Y up like glTF, so it stands the right
-way; for +Z-up simulations add --z-up. Velocities for motion blur: convert with
---attributes velocity (see man jetmesh). MeshLab: File > Import Mesh, pick an
-.obj or .glb.
+(after make install: blender --python "\$(jetmesh --blender-script)" -- FOLDER;
+installed as an add-on: File > Import > jetmesh sequence.) One frame: File >
+Import > glTF 2.0, pick $OUT/glb/jet_050.glb (Debian's Blender cannot read the
+Draco ones: its package leaves out Blender's Draco library). The jet is +Y up
+like glTF, so it stands the right way; for +Z-up simulations add --z-up.
+Velocities for motion blur: convert with --attributes velocity (see man
+jetmesh). MeshLab: File > Import Mesh, pick an .obj or .glb.
 MSG

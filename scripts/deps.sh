@@ -1,6 +1,9 @@
 #!/bin/sh
 # deps.sh - installs the Debian packages (and pinned npm test tools) jetmesh needs, if missing.
 # Usage: scripts/deps.sh [build|test|all]   (default: all)
+#   build: the compilers and libraries (make, make demo, make bench)
+#   test|all: those and the test tools (make check): Blender, Slurm and munge,
+#          GNU parallel, valgrind, clang, mandoc, node and npm with tests/js
 set -e
 what=${1:-all}
 build_pkgs="gcc g++ make pkg-config zlib1g-dev libtinygltf-dev libdraco-dev libcmocka-dev libmeshoptimizer-dev"

@@ -33,6 +33,7 @@ struct jmf_anim {
     size_t naccessors = 0, nviews = 0, nmeshes = 0, nnodes = 0;
     bool draco = false, any_mesh = false;
     int no_sync = 0;
+    size_t limit = JMF_ANIM_MAX_BYTES; // the largest file written
 };
 
 namespace {
@@ -125,7 +126,42 @@ size_t add_accessor(jmf_anim *a, long view, int component, int type, size_t coun
     return a->naccessors++;
 }
 
+// "2 GiB", or the bytes of a limit that is no whole number of GiB.
+std::string limit_text(size_t limit)
+{
+    if (limit % (size_t(1) << 30) == 0) return std::to_string(limit >> 30) + " GiB";
+    return std::to_string(limit) + " bytes";
+}
+
+// The refusal of a file that would pass the limit, naming what to write instead.
+jmf_status over_limit(const jmf_anim *a, const char *when, uint64_t bytes, char *err, size_t errlen)
+{
+    std::snprintf(err, errlen,
+                  "%s: the animated file would pass %s %s (%zu frames in, %llu bytes): glTF tools refuse files over "
+                  "2 GiB (the Khronos glTF-Validator does) and GLB ends at 4 GiB. Write one file per frame "
+                  "instead (-o 'DIR/frame_{}.glb') and stream them into Blender (jetmesh --blender-script), "
+                  "or make the frames smaller (--draco)",
+                  a->path.c_str(), limit_text(a->limit).c_str(), when, a->nnodes,
+                  static_cast<unsigned long long>(bytes));
+    return JMF_E_LIMIT;
+}
+
 } // namespace
+
+extern "C" void jmf_anim_set_limit(jmf_anim *a, size_t bytes)
+{
+    a->limit = bytes ? bytes : JMF_ANIM_MAX_BYTES;
+}
+
+extern "C" size_t jmf_anim_bytes(const jmf_anim *a)
+{
+    // the JSON: its lists as kept, the scene's node list, and about 1 KiB of
+    // fixed parts (asset, material, the two shared STEP outputs' entries)
+    const size_t json = a->accessors.size() + a->views.size() + a->meshes.size() + a->nodes.size() +
+                        a->samplers.size() + a->channels.size() + a->numbers.size() + a->generator.size() +
+                        8 * a->nnodes + 1024;
+    return 28 + json + a->size + 2 * 12 * 3 + 8;
+}
 
 extern "C" jmf_status jmf_anim_piece_build(const jm_mesh *mesh, const jmf_write_options *opt, int draco,
                                            const char *name, jmf_anim_piece **out, char *err, size_t errlen)
@@ -214,6 +250,15 @@ extern "C" jmf_status jmf_anim_add(jmf_anim *a, const char *node_name, long numb
     try {
         const std::string name = node_name ? node_name : "frame";
         std::string node = "{";
+        // this frame's bytes, its JSON (a few hundred bytes) and alignment
+        const size_t adds = (piece ? piece->data.size() : 0) + 1024;
+        if (jmf_anim_bytes(a) + adds > a->limit) {
+            char when[64];
+            std::snprintf(when, sizeof when, "at frame %ld", number);
+            st = over_limit(a, when, jmf_anim_bytes(a) + adds, err, errlen);
+            delete piece;
+            return st;
+        }
         if (piece && !piece->m.meshes.empty()) {
             st = put(a, nullptr, 0, err, errlen); // align
             const size_t base = a->size;
@@ -384,6 +429,12 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
         return st;
     }
     f.no_sync = a->no_sync;
+    if (!a->glb && json_size + a->size > a->limit) {
+        over_limit(a, "when finished", json_size + a->size, err, errlen);
+        jmf_atomic_abort(&f);
+        jmf_anim_abort(a);
+        return JMF_E_LIMIT;
+    }
     if (!a->glb) {
         // the .bin is complete: stage it, then the .gltf naming it
         for (size_t i = 0; !st && i < json.size(); i++) st = jmf_atomic_write(&f, json[i].data(), json[i].size(), err, errlen);
@@ -415,9 +466,8 @@ extern "C" jmf_status jmf_anim_finish(jmf_anim *a, jmf_staged *out, size_t *out_
     const size_t json_padded = jmf_glb_pad4(json_size);
     json.push_back(std::string(json_padded - json_size, ' '));
     const uint64_t total = jmf_glb_total(json_padded, a->size);
-    if (total > 0xffffffffu) {
-        std::snprintf(err, errlen, "%s: the sequence is too large for one GLB (over 4 GiB); write .gltf",
-                      a->path.c_str());
+    if (total > a->limit || total > 0xffffffffu) {
+        over_limit(a, "when finished", total, err, errlen);
         jmf_atomic_abort(&f);
         jmf_anim_abort(a);
         return JMF_E_LIMIT;

@@ -116,6 +116,32 @@ std::string uri_encode(const char *s)
     return out;
 }
 
+// glTF's accessor types by component count (1 to 4).
+const int kTypes[5] = {0, TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC2, TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4};
+
+// "velocity" -> "_VELOCITY": glTF's application-specific attributes start with '_'.
+std::string attribute_key(const char *name)
+{
+    std::string key = "_";
+    for (const char *c = name; *c; c++) key += static_cast<char>(*c >= 'a' && *c <= 'z' ? *c - 'a' + 'A' : *c);
+    return key;
+}
+
+// Attribute a's values as written: 3-vectors rotated into turned with z_up
+// (then its data is returned), else the caller's array.
+const float *attribute_values(const jmf_gltf_params *p, size_t a, size_t nv, std::vector<float> &turned)
+{
+    const jmf_attribute *at = &p->attributes[a];
+    if (!p->z_up || at->components != 3) return at->values;
+    turned.resize(3 * nv);
+    for (size_t i = 0; i < nv; i++) {
+        turned[3 * i] = at->values[3 * i];
+        turned[3 * i + 1] = at->values[3 * i + 2];
+        turned[3 * i + 2] = -at->values[3 * i + 1];
+    }
+    return turned.data();
+}
+
 } // namespace
 
 std::string jmf_gltf_uri_encode(const char *s)
@@ -218,8 +244,16 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
         jm_mesh rot = *mesh;
         rot.positions = pos;
         rot.normals = nrm;
+        // the attributes as written (3-vectors z-up rotated), compressed with the mesh
+        std::vector<std::vector<float>> turned(p->attribute_count);
+        std::vector<jmf_attribute> attrs(p->attribute_count);
+        for (size_t a = 0; a < p->attribute_count; a++) {
+            attrs[a] = p->attributes[a];
+            attrs[a].values = const_cast<float *>(attribute_values(p, a, nv, turned[a]));
+        }
         jmf_draco_blob blob;
-        jmf_status st = jmf_draco_encode(&rot, &p->draco_params, name, &blob, err, errlen);
+        jmf_status st = jmf_draco_encode_attributes(&rot, attrs.data(), attrs.size(), &p->draco_params, name, &blob,
+                                                    err, errlen);
         if (st) return st;
         const unsigned char *bd = static_cast<const unsigned char *>(blob.data);
         const size_t o = buf.own(std::vector<unsigned char>(bd, bd + blob.size));
@@ -242,6 +276,12 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
                 add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, np);
             ids["TEXCOORD_0"] = tinygltf::Value(blob.uv_id);
         }
+        for (size_t a = 0; a < blob.attribute_count; a++) {
+            const std::string key = attribute_key(p->attributes[a].name);
+            prim.attributes[key] = add_accessor(m, -1, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                                kTypes[p->attributes[a].components], np);
+            ids[key] = tinygltf::Value(blob.attribute_ids[a]);
+        }
         prim.indices = add_accessor(m, -1,
                                     np <= 65535 ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
                                                 : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
@@ -255,30 +295,17 @@ jmf_status jmf_gltf_fill_primitive(const jm_mesh *mesh, const jmf_gltf_params *p
             m.extensionsUsed.push_back(kDraco);
             m.extensionsRequired.push_back(kDraco);
         }
+        return JMF_OK;
     }
     // per-vertex attributes: "_NAME" (glTF's custom attributes start with '_')
     for (size_t a = 0; a < p->attribute_count; a++) {
-        const jmf_attribute *at = &p->attributes[a];
-        const size_t nc = static_cast<size_t>(at->components);
-        std::vector<float> rot;
-        const float *src = at->values;
-        if (p->z_up && nc == 3) {
-            rot.resize(3 * nv);
-            for (size_t i = 0; i < nv; i++) {
-                rot[3 * i] = src[3 * i];
-                rot[3 * i + 1] = src[3 * i + 2];
-                rot[3 * i + 2] = -src[3 * i + 1];
-            }
-            src = rot.data();
-        }
-        std::string key = "_";
-        for (const char *c = at->name; *c; c++)
-            key += static_cast<char>(*c >= 'a' && *c <= 'z' ? *c - 'a' + 'A' : *c);
-        static const int types[5] = {0, TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC2, TINYGLTF_TYPE_VEC3,
-                                     TINYGLTF_TYPE_VEC4};
-        const size_t o = rot.empty() ? buf.borrow(src, nv * nc * 4) : buf.own(std::move(rot));
-        prim.attributes[key] = add_accessor(m, add_view(m, o, nv * nc * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                            TINYGLTF_COMPONENT_TYPE_FLOAT, types[nc], nv);
+        const size_t nc = static_cast<size_t>(p->attributes[a].components);
+        std::vector<float> turned;
+        const float *src = attribute_values(p, a, nv, turned);
+        const size_t o = turned.empty() ? buf.borrow(src, nv * nc * 4) : buf.own(std::move(turned));
+        prim.attributes[attribute_key(p->attributes[a].name)] =
+            add_accessor(m, add_view(m, o, nv * nc * 4, TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                         kTypes[nc], nv);
     }
     return JMF_OK;
 }

@@ -27,7 +27,10 @@ typedef struct jmf_gltf_params {
     const char *name;        /**< the output's name, for messages */
     const jmf_attribute *attributes; /**< per-vertex, written as "_NAME" accessors
                                           (FLOAT, SCALAR/VEC2/VEC3/VEC4; 3-vectors
-                                          rotated with z_up); not with draco */
+                                          rotated with z_up); with draco, Draco
+                                          GENERIC attributes in the compressed
+                                          primitive (the extension maps "_NAME"
+                                          to their ids) */
     size_t attribute_count;
 } jmf_gltf_params;
 

@@ -1,6 +1,6 @@
 // draco_decode.mjs - decodes a .drc file, or the Draco primitive of a .glb/.gltf, with draco3d and prints a JSON summary.
 //
-// Usage: node draco_decode.mjs FILE [--positions OUT.f32] [--extract OUT.drc]
+// Usage: node draco_decode.mjs FILE [--positions OUT.f32] [--extract OUT.drc] [--attribute NAME OUT.f32]
 // Prints one JSON object: points, faces, the attributes (Draco type, unique
 // id, components), the positions' bounding box, how many faces collapsed to
 // zero area in decoding, and for glTF/GLB the checks of the
@@ -9,7 +9,11 @@
 // found in the Draco data, accessors without bufferView whose counts match
 // the decoded data). --positions writes the decoded positions as raw
 // little-endian float32 x y z; --extract writes the Draco bytes of a
-// glTF/GLB primitive as a bare .drc (for Draco's own draco_decoder).
+// glTF/GLB primitive as a bare .drc (for Draco's own draco_decoder);
+// --attribute writes a GENERIC attribute's decoded values (float32, its
+// components per point, in the positions' order): NAME is the glTF semantic
+// ("_VELOCITY", through the extension's ids) or, in a .drc, the attribute
+// metadata entry "name" ("velocity").
 // Exit status 1 when decoding or a check fails.
 import { readFile, writeFile } from 'node:fs/promises';
 import path from 'node:path';
@@ -95,8 +99,12 @@ async function main() {
   const dumpTo = pi > 0 ? args[pi + 1] : null;
   const xi = args.indexOf('--extract');
   const extractTo = xi > 0 ? args[xi + 1] : null;
-  if (!file || (pi > 0 && !dumpTo) || (xi > 0 && !extractTo)) {
-    console.error('usage: node draco_decode.mjs FILE.drc|FILE.glb|FILE.gltf [--positions OUT.f32] [--extract OUT.drc]');
+  const ai = args.indexOf('--attribute');
+  const attrName = ai > 0 ? args[ai + 1] : null;
+  const attrTo = ai > 0 ? args[ai + 2] : null;
+  if (!file || (pi > 0 && !dumpTo) || (xi > 0 && !extractTo) || (ai > 0 && !attrTo)) {
+    console.error('usage: node draco_decode.mjs FILE.drc|FILE.glb|FILE.gltf [--positions OUT.f32] [--extract OUT.drc] ' +
+                  '[--attribute NAME OUT.f32]');
     return 2;
   }
   const bytes = new Uint8Array(await readFile(file));
@@ -214,6 +222,23 @@ async function main() {
   out.ok = checks.every((c) => c.ok);
 
   if (dumpTo) await writeFile(dumpTo, new Uint8Array(pos.buffer));
+  if (attrTo) {
+    let a = null;
+    if (gltf && prim) {
+      const id = prim.extensions[EXT].attributes?.[attrName];
+      if (id !== undefined) a = decoder.GetAttributeByUniqueId(mesh, id);
+    } else {
+      const id = decoder.GetAttributeIdByMetadataEntry(mesh, 'name', attrName);
+      if (id >= 0) a = decoder.GetAttribute(mesh, id);
+    }
+    if (!a || a.ptr === 0) {
+      out.ok = false;
+      out.checks.push(`FAILED: no Draco attribute ${attrName}`);
+    } else {
+      out.attribute = { name: attrName, type: typeName(M, a.attribute_type()), components: a.num_components() };
+      await writeFile(attrTo, new Uint8Array(floatsOf(M, decoder, mesh, a).buffer));
+    }
+  }
   M.destroy(mesh);
   M.destroy(dbuf);
   M.destroy(decoder);
