@@ -266,15 +266,25 @@ static jmf_status data_array(vtu *v, const xtag *t, darr *da)
                         SHOWA(fm));
     if (da->fmt == FMT_APPENDED && !attr_size(attr(t, "offset"), &da->offset))
         return jmr_fail(x->ctx, JMF_E_FORMAT, jmr_byte(t->pos), "appended DataArray without a valid offset attribute");
+    /* where its (empty) content is, for messages */
+    da->seg = t->selfclose ? t->pos : x->pos;
     if (t->selfclose) return JMF_OK;
-    /* content: one non-blank text run, nested elements (InformationKey) skipped */
+    /* content: one non-blank text run (a CDATA section is text too),
+     * nested elements (InformationKey) skipped */
     for (;;) {
         size_t s = x->pos, e, i;
         const uint8_t *lt = memchr(x->d + s, '<', x->n - s);
         xtag in;
-        int skipped;
+        int skipped, cdata;
         jmf_status st;
         e = lt ? (size_t)(lt - x->d) : x->n;
+        cdata = x->n - s >= 9 && memcmp(x->d + s, "<![CDATA[", 9) == 0;
+        if (cdata) {
+            s += 9;
+            e = find(x->d, x->n, s, "]]>");
+            if (e == x->n)
+                return jmr_fail(x->ctx, JMF_E_FORMAT, jmr_byte(s - 9), "truncated XML: expected ']]>'");
+        }
         for (i = s; i < e && jmr_isspace(x->d[i]); i++) {}
         if (i < e) {
             if (da->seglen)
@@ -282,9 +292,11 @@ static jmf_status data_array(vtu *v, const xtag *t, darr *da)
             da->seg = s;
             da->seglen = e - s;
         }
-        x->pos = e;
+        x->pos = cdata ? e + 3 : e;
+        if (cdata) continue;
         if (!lt)
             return jmr_fail(x->ctx, JMF_E_FORMAT, jmr_byte(x->n), "truncated XML: expected </DataArray>");
+        if (x->n - e >= 9 && memcmp(x->d + e, "<![CDATA[", 9) == 0) continue; /* the next run */
         st = parse_tag(x, &in, &skipped);
         if (st) return st;
         if (skipped) continue;
