@@ -42,6 +42,12 @@ typedef struct jmf_read_options {
                                   jmf_attribute. */
 } jmf_read_options;
 
+/** The most components, all the attributes of a frame together, that a
+ *  read keeps (what jm_interpolate_attributes carries in one call): an
+ *  attribute beyond them is refused (JMF_E_UNSUPPORTED) where the file
+ *  declares it, before any value is read. */
+#define JMF_MAX_ATTRIBUTE_COMPONENTS 64
+
 /**
  * One per-particle array of a frame (jmf_read_options.attributes), e.g.
  * "velocity" with 3 components. Where they come from: VTK point-data
@@ -49,7 +55,8 @@ typedef struct jmf_read_options {
  * point attributes (float/int/vector), PLY vertex properties and CSV columns.
  * In PLY and CSV, properties NAME_x NAME_y NAME_z (also .x or x/y/z after
  * the name) make one 3-component NAME, and vx vy vz make "velocity". 1 to 4
- * components. A named attribute the file lacks, one whose length differs
+ * components each, at most JMF_MAX_ATTRIBUTE_COMPONENTS in all. A named
+ * attribute the file lacks, one whose length differs
  * from the particle count, and a non-finite value are errors naming the
  * file and the attribute (drop_invalid drops the particle instead of the
  * last).
