@@ -769,6 +769,65 @@ static void test_generator_stays_one_line(void **state)
     test_mesh_free(&tm);
 }
 
+/* Many attributes with long names (issue 30: PLY's header was a 1 KiB
+ * buffer, "generator name too long"; VTK's lines were cut at 512 bytes):
+ * whole headers, every property, the data after them. */
+static void test_long_attribute_names(void **state)
+{
+    (void)state;
+    enum { NA = 40, LEN = 600 };
+    char err[512];
+    test_mesh tm;
+    make("octahedron", &tm);
+    const size_t nv = tm.mesh.vertex_count, nt = tm.mesh.triangle_count;
+    jmf_attribute at[NA];
+    char *names[NA];
+    float *vals = calloc(nv, sizeof *vals);
+    assert_non_null(vals);
+    for (int a = 0; a < NA; a++) {
+        names[a] = malloc(LEN + 8);
+        assert_non_null(names[a]);
+        int k = sprintf(names[a], "n%02d_", a);
+        memset(names[a] + k, 'a', LEN - (size_t)k);
+        names[a][LEN] = '\0';
+        at[a] = (jmf_attribute){names[a], 1, vals};
+    }
+    jmf_write_options o;
+    memset(&o, 0, sizeof o);
+    o.attributes = at;
+    o.attribute_count = NA;
+    assert_int_equal(write_path(in_dir("long.ply"), &tm.mesh, &o, NULL, err), JMF_OK);
+    assert_int_equal(write_path(in_dir("long.vtk"), &tm.mesh, &o, NULL, err), JMF_OK);
+    size_t n;
+    char *d = (char *)test_read_file(in_dir("long.ply"), &n);
+    assert_non_null(d);
+    char *end = strstr(d, "end_header\n");
+    assert_non_null(end);
+    size_t head = (size_t)(end - d) + 11, props = 0;
+    for (char *p = d; p < end && (p = strstr(p, "property float ")) != NULL && p < end; p++) props++;
+    assert_int_equal(props, 3 + 3 + 2 + NA);
+    for (int a = 0; a < NA; a++) {
+        char line[LEN + 32];
+        snprintf(line, sizeof line, "property float %s\n", names[a]);
+        assert_non_null(strstr(d, line));
+    }
+    assert_int_equal(n, head + nv * 4 * (3 + 3 + 2 + NA) + nt * 13);
+    free(d);
+    d = (char *)test_read_file(in_dir("long.vtk"), &n);
+    assert_non_null(d);
+    for (int a = 0; a < NA; a++) {
+        char line[LEN + 48];
+        snprintf(line, sizeof line, "\n%s 1 %zu float\n", names[a], nv);
+        size_t k = strlen(line), i = 0;
+        while (i + k <= n && memcmp(d + i, line, k) != 0) i++;
+        assert_true(i + k <= n);
+    }
+    free(d);
+    for (int a = 0; a < NA; a++) free(names[a]);
+    free(vals);
+    test_mesh_free(&tm);
+}
+
 /* ---- atomic output ----------------------------------------------------------------------- */
 
 static void test_atomic_commit_and_names(void **state)
@@ -1066,6 +1125,7 @@ int main(void)
         cmocka_unit_test(test_drc),
         cmocka_unit_test(test_bad_requests),
         cmocka_unit_test(test_generator_stays_one_line),
+        cmocka_unit_test(test_long_attribute_names),
         cmocka_unit_test(test_atomic_commit_and_names),
         cmocka_unit_test(test_atomic_abort_keeps_target),
         cmocka_unit_test(test_atomic_shutdown),
