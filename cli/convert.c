@@ -14,6 +14,7 @@
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
 #include "farm.h"
+#include "inputs.h"
 #include "options.h"
 #include "param_errors.h"
 #include "platform.h"
@@ -61,6 +62,7 @@ typedef struct run {
     long choice_frame;
     size_t empty; /* frames with particles that gave no triangle */
     size_t planned; /* frames of the whole run, all shards together */
+    inputs in;          /* each frame's reads (a pipe read once) */
     jmf_anim *anim;     /* --animate: the one file being written */
     int anim_failed;    /* a frame could not be added to it */
 } run;
@@ -452,7 +454,7 @@ static void choose_field(run *r)
         jmf_frame fr;
         char err[1024];
         memset(&fr, 0, sizeof fr);
-        if (jmf_read_particles(f->path, &o->read, &fr, err, sizeof err) != JMF_OK)
+        if (inputs_read(&r->in, i, &o->read, &fr, err, sizeof err) != JMF_OK)
             continue; /* its own failure is reported in its turn */
         jm_particles in = {fr.xyz, fr.count, 0, NULL};
         jm_field fd;
@@ -525,10 +527,11 @@ static void outcome_fail(outcome *oc, const char *msg, int status)
  * temporaries complete, not yet renamed). Prints nothing: the outcome is
  * reported in frame order by report(). shared: ctx has only a share of
  * --max-memory, so a refusal over that share asks for a retry alone. */
-static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_read_options *read,
+static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx, const jmf_read_options *read,
                           int shared, const job *jb, outcome *oc)
 {
     const seq_frame *f = jb->in;
+    const size_t fi = (size_t)(f - in->frames->items);
     char err[1024], msg[1400], b1[32];
     memset(oc, 0, sizeof *oc);
     oc->rec.index = f->index;
@@ -540,7 +543,7 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
     double t0 = platform_now_ms();
     jmf_frame fr;
     memset(&fr, 0, sizeof fr);
-    jmf_status rs = jmf_read_particles(f->path, read, &fr, err, sizeof err);
+    jmf_status rs = inputs_read(in, fi, read, &fr, err, sizeof err);
     double t1 = platform_now_ms();
     rec->ms_read = t1 - t0;
     if (rs != JMF_OK) {
@@ -548,9 +551,12 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
             oc->retry = 1;
             return;
         }
-        if (rs == JMF_E_LIMIT)
+        if (rs == JMF_E_LIMIT && o->max_memory)
             snprintf(msg, sizeof msg, "%s (over --max-memory %s: raise --max-memory)", err,
                      platform_format_bytes(o->max_memory, b1, sizeof b1));
+        else if (rs == JMF_E_UNSUPPORTED && read->format == JMF_IN_AUTO && strcmp(f->path, "-") == 0)
+            snprintf(msg, sizeof msg, "%s (standard input has no name to tell its format by: give "
+                     "--input-format)", err);
         else
             snprintf(msg, sizeof msg, "%s", err);
         rec->ms_total = rec->ms_read;
@@ -785,7 +791,7 @@ static int frame_jobs(const run *r)
 static int farm_job(void *user, int w, size_t i)
 {
     run *r = user;
-    convert_frame(r->o, r->wctx[w], &r->wread, 1, &r->jobs[i], &r->oc[i]);
+    convert_frame(r->o, &r->in, r->wctx[w], &r->wread, 1, &r->jobs[i], &r->oc[i]);
     r->oc[i].done = 1;
     return r->oc[i].retry; /* a frame over its share stops the farm: done alone later */
 }
@@ -878,8 +884,9 @@ static void convert_all(run *r)
             oc->retry = 0;
         }
         if (!oc->done || oc->retry)
-            convert_frame(r->o, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
+            convert_frame(r->o, &r->in, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
         int ok = report(r, &r->jobs[i], oc) == 0;
+        inputs_release(&r->in, (size_t)(r->jobs[i].in - r->frames.items));
         if (fm)
             farm_taken(fm, i);
         progress_update(&r->bar, i + 1);
@@ -1020,6 +1027,7 @@ static void run_free(run *r)
     stats_free(&r->log);
     jm_context_free(r->ctx);
     free_workers(r);
+    inputs_free(&r->in);
     free(r->oc);
     jmf_anim_abort(r->anim);
     free(r->o->attributes_all);
@@ -1058,11 +1066,16 @@ int cmd_convert(int argc, char **argv)
                                  r.frames.count, SEQ_MAX_FRAMES);
         goto done;
     }
+    if (inputs_init(&r.in, &r.frames, o.max_memory) != 0) {
+        fprintf(stderr, "jetmesh convert: out of memory\n");
+        rc = EXIT_RESOURCE;
+        goto done;
+    }
     if ((rc = plan_outputs(&r)) != EXIT_ALL_OK ||
         (rc = o.animate ? animate_check_output(&r) : check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
     choose_field(&r);
-    if ((rc = vattrs_resolve_all(o.attributes, &o.read, &r.frames, &o.attributes_all)) != EXIT_ALL_OK)
+    if ((rc = vattrs_resolve_all(o.attributes, &o.read, &r.in, &o.attributes_all)) != EXIT_ALL_OK)
         goto done;
     if (o.attributes_all)
         o.read.attributes = o.attributes_all;
