@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "../formats/gltf/gltf_anim.h"
@@ -454,13 +455,19 @@ static void choose_field(run *r)
         jmf_frame fr;
         char err[1024];
         memset(&fr, 0, sizeof fr);
-        if (inputs_read(&r->in, i, &o->read, &fr, err, sizeof err) != JMF_OK)
+        double t0 = platform_now_ms();
+        if (inputs_read(&r->in, i, &o->read, &fr, err, sizeof err, NULL) != JMF_OK)
             continue; /* its own failure is reported in its turn */
+        double ms = platform_now_ms() - t0;
         jm_particles in = {fr.xyz, fr.count, 0, NULL};
         jm_field fd;
         jm_method m;
         float nb;
         jm_status s = jm_choose_field(&o->params, &in, &fd, &m, &nb);
+        /* the frame's conversion takes these particles instead of reading
+         * them again, unless --attributes all changes what it reads */
+        if (!o->attributes || strcasecmp(o->attributes, "all") != 0)
+            inputs_hold(&r->in, i, &o->read, &fr, ms);
         jmf_frame_free(&fr);
         if (s != JM_OK)
             continue;
@@ -543,8 +550,10 @@ static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx,
     double t0 = platform_now_ms();
     jmf_frame fr;
     memset(&fr, 0, sizeof fr);
-    jmf_status rs = inputs_read(in, fi, read, &fr, err, sizeof err);
+    double held_ms = 0; /* a frame read by the field choice: that read's time */
+    jmf_status rs = inputs_read(in, fi, read, &fr, err, sizeof err, &held_ms);
     double t1 = platform_now_ms();
+    t0 -= held_ms;
     rec->ms_read = t1 - t0;
     if (rs != JMF_OK) {
         if (rs == JMF_E_LIMIT && shared) {

@@ -23,10 +23,45 @@ int inputs_once(const char *path)
     return stat(path, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
 }
 
-jmf_status inputs_read(inputs *in, size_t i, const jmf_read_options *opt, jmf_frame *out, char *err, size_t errlen)
+static int same_options(const jmf_read_options *a, const jmf_read_options *b)
+{
+    return a->format == b->format && a->drop_invalid == b->drop_invalid &&
+           (a->attributes == b->attributes ||
+            (a->attributes && b->attributes && strcmp(a->attributes, b->attributes) == 0));
+}
+
+void inputs_hold(inputs *in, size_t i, const jmf_read_options *opt, jmf_frame *fr, double ms)
+{
+    inputs_kept *k = &in->kept[i];
+    if (k->held)
+        jmf_frame_free(&k->frame);
+    k->frame = *fr;
+    k->held_opt = *opt;
+    k->held_ms = ms;
+    k->held = 1;
+    memset(fr, 0, sizeof *fr);
+}
+
+jmf_status inputs_read(inputs *in, size_t i, const jmf_read_options *opt, jmf_frame *out, char *err, size_t errlen,
+                       double *ms)
 {
     const char *path = in->frames->items[i].path;
     inputs_kept *k = &in->kept[i];
+    if (ms)
+        *ms = 0;
+    if (k->held) {
+        k->held = 0;
+        if (same_options(opt, &k->held_opt)) {
+            *out = k->frame;
+            memset(&k->frame, 0, sizeof k->frame);
+            if (err && errlen)
+                err[0] = '\0';
+            if (ms)
+                *ms = k->held_ms;
+            return JMF_OK;
+        }
+        jmf_frame_free(&k->frame);
+    }
     if (k->state == 0 && inputs_once(path)) {
         jmf_read_options whole = *opt;
         whole.max_bytes = in->max_bytes;
@@ -55,6 +90,9 @@ void inputs_release(inputs *in, size_t i)
         return;
     free(in->kept[i].data);
     free(in->kept[i].error);
+    if (in->kept[i].held)
+        jmf_frame_free(&in->kept[i].frame);
+    in->kept[i].held = 0;
     in->kept[i].data = NULL;
     in->kept[i].error = NULL;
     in->kept[i].size = 0;

@@ -23,6 +23,10 @@ typedef struct inputs_kept {
     int state;           /* 0 not read (or a regular file), 1 kept, 2 failed */
     jmf_status failed;   /* state 2: the read's status and message */
     char *error;
+    int held;            /* frame: the particles read by inputs_hold's caller */
+    jmf_frame frame;
+    jmf_read_options held_opt;
+    double held_ms;
 } inputs_kept;
 
 typedef struct inputs {
@@ -37,8 +41,15 @@ int inputs_init(inputs *in, const seq_list *frames, size_t max_bytes);
 /** 1 if path can be read only once: "-", or not a regular file (a FIFO,
  *  a character device, a socket). */
 int inputs_once(const char *path);
-/** Reads frame i (of in->frames) as jmf_read_particles does. */
-jmf_status inputs_read(inputs *in, size_t i, const jmf_read_options *opt, jmf_frame *out, char *err, size_t errlen);
+/** Reads frame i (of in->frames) as jmf_read_particles does; *ms (may be
+ *  NULL) gets the milliseconds a held frame's read took, else 0. */
+jmf_status inputs_read(inputs *in, size_t i, const jmf_read_options *opt, jmf_frame *out, char *err, size_t errlen,
+                       double *ms);
+/** Keeps the particles of frame i, read with opt in ms milliseconds, for its
+ *  next inputs_read with the same options (format, drop_invalid, the same
+ *  attributes): the field choice's read of the first frame is not done
+ *  again for its conversion. Takes *fr (zeroed). */
+void inputs_hold(inputs *in, size_t i, const jmf_read_options *opt, jmf_frame *fr, double ms);
 /** Frame i will not be read again: its kept bytes go. */
 void inputs_release(inputs *in, size_t i);
 void inputs_free(inputs *in);

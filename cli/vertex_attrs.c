@@ -19,7 +19,7 @@ int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, inp
         jmf_frame fr;
         char err[1024];
         o.attributes = "all";
-        if (inputs_read(in, i, &o, &fr, err, sizeof err) != JMF_OK)
+        if (inputs_read(in, i, &o, &fr, err, sizeof err, NULL) != JMF_OK)
             continue; /* it fails in its turn */
         size_t len = 1;
         for (size_t k = 0; k < fr.attribute_count; k++)
