@@ -14,6 +14,7 @@
 #include "../formats/reader.h"
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
+#include "domain_advice.h"
 #include "farm.h"
 #include "inputs.h"
 #include "options.h"
@@ -586,12 +587,18 @@ static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx,
         /* the library's own estimate, the one it refused on */
         size_t est = st->estimated_bytes;
         if (ms == JM_E_TOO_LARGE && !est) jm_estimate_bytes(ctx, &parts, &est);
-        if (shared && (ms == JM_E_TOO_LARGE || ms == JM_E_OUT_OF_MEMORY)) {
+        int outside = ms == JM_E_TOO_LARGE && domain_outside(&o->params, &parts);
+        if (shared && !outside && (ms == JM_E_TOO_LARGE || ms == JM_E_OUT_OF_MEMORY)) {
             jmf_frame_free(&fr);
             oc->retry = 1;
             return;
         }
-        if (ms == JM_E_TOO_LARGE)
+        if (outside) {
+            /* coordinates beyond the lattice's reach, which no memory
+             * changes: a frame this tool cannot mesh as it is (issue 30) */
+            domain_advice(msg, sizeof msg, f->path, &o->params, &parts);
+            status = EXIT_SOME_FAILED;
+        } else if (ms == JM_E_TOO_LARGE)
             /* names --cube-size when the machine itself could not hold it */
             param_errors_too_large(msg, sizeof msg, f->path, &o->params, &parts, est, o->max_memory);
         else if (ms == JM_E_TOO_DENSE) {

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "domain_advice.h"
 #include "platform.h"
 
 static const struct {
@@ -165,11 +166,7 @@ void param_errors_domain(char *msg, size_t len, const char *path, const jm_param
     }
     double cube = cube_in_force(p) * (double)p->radius;
     if (far > JM_MAX_CUBES_FROM_ORIGIN * cube)
-        snprintf(msg, len,
-                 "%s: outside the numeric domain: a coordinate %g lies %.3g cube edges (--cube-size %g * -r %g) "
-                 "from the origin, over the %.0f that float precision allows: move the particles nearer the "
-                 "origin (subtract their centre) or use a larger --cube-size (see jetmesh(1), LIMITS)",
-                 path, far, far / cube, cube_in_force(p), (double)p->radius, JM_MAX_CUBES_FROM_ORIGIN);
+        domain_advice(msg, len, path, p, parts);
     else
         snprintf(msg, len,
                  "%s: outside the numeric domain: with -r %g and coordinates up to %g the mesh would reach "
