@@ -37,3 +37,39 @@ printf 'x,y,z\n0,0,0\n' | "$J" convert - -r 0.025 -o "$T/x.obj" >"$T/out" 2>"$T/
 grep -q '<stdin>.*--input-format' "$T/err" || { cat "$T/err"; fail "CSV on standard input without --input-format: no hint"; }
 no_temps
 echo "ok: standard input and FIFOs are read once"
+
+# 2. piled particles are refused by the bounded work, whichever field is
+#    chosen (the field choice scanned every neighbour of 4096 samples first)
+awk 'BEGIN { print "x,y,z"; for (i = 0; i < 300000; i++) print "1,2,3" }' >"$T/pile.csv"
+run 1 convert "$T/pile.csv" -r 0.05 -o "$T/pile.obj"
+grep -q 'pile.csv: 300000 particles packed far closer than their radius' "$T/err" || { cat "$T/err"; fail "pile: no refusal"; }
+run 1 convert "$T/pile.csv" -r 0.05 -o "$T/pile.obj" --field metasphere
+echo "ok: piled particles refused"
+
+# 3. over 64 attribute components: refused at the header, naming the limit
+awk 'BEGIN { n = 20000; s = "x,y,z"; for (i = 0; i < n; i++) s = s ",a" i; print s;
+             for (r = 0; r < 3; r++) { s = r ",0,0"; for (i = 0; i < n; i++) s = s ",1"; print s } }' >"$T/wide.csv"
+run 1 convert "$T/wide.csv" -r 0.5 -o "$T/wide.ply" --attributes all
+grep -q 'wide.csv:1: .*limit of 64' "$T/err" || { cat "$T/err"; fail "20,000 columns: not refused at the header"; }
+echo "ok: attribute components limited at the header"
+
+# 6. particles beyond the lattice's reach: exit 1 with what would help,
+#    never "use a larger --cube-size" that cannot help
+printf 'x,y,z\n0,0,0\n1e30,0,0\n' >"$T/far.csv"
+for c in 0.5 100; do
+    run 1 convert "$T/far.csv" -r 0.05 -c "$c" -o "$T/far.obj"
+    grep -q 'spread\|span' "$T/err" && grep -q 'split the frame' "$T/err" || { cat "$T/err"; fail "0 and 1e30: no advice"; }
+    if grep -q 'use a larger --cube-size' "$T/err"; then fail "advice that cannot help: $(cat "$T/err")"; fi
+done
+awk 'BEGIN { print "x,y,z"; for (c = 0; c < 2; c++) for (i = 0; i < 200; i++)
+             printf "%.6f,%.6f,%.6f\n", c * 1e6 + (i % 7) * 0.02, int(i / 7) % 5 * 0.02, int(i / 35) * 0.02 }' >"$T/two.csv"
+run 1 convert "$T/two.csv" -r 0.01 -o "$T/two.obj"
+grep -q 'split the frame' "$T/err" || { cat "$T/err"; fail "two clusters 1e6 apart: no advice to split"; }
+awk 'BEGIN { print "x,y,z"; for (i = 0; i < 200; i++)
+             printf "%.6f,%.6f,%.6f\n", 5e4 + (i % 7) * 0.02, int(i / 7) % 5 * 0.02, int(i / 35) * 0.02 }' >"$T/off.csv"
+run 1 convert "$T/off.csv" -r 0.01 -o "$T/off.obj"
+grep -q 'subtract their centre (50000.1, 0.04, 0.05)' "$T/err" || { cat "$T/err"; fail "far from the origin: no centre to subtract"; }
+cube=$(sed -n 's/.*: --cube-size \([0-9.]*\) or more reaches them.*/\1/p' "$T/err")
+[ -n "$cube" ] || { cat "$T/err"; fail "far from the origin: no cube size that reaches"; }
+run 0 convert "$T/off.csv" -r 0.01 -c "$cube" --field sph -o "$T/off.obj"
+echo "ok: particles beyond the lattice's reach get advice that helps"
