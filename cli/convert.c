@@ -364,6 +364,21 @@ static int check_writable(run *r)
 {
     const char *last = NULL;
     size_t lastlen = 0;
+    /* a file name the file system cannot hold fails before any work */
+    for (size_t i = 0; i < r->njobs + 2; i++) {
+        const char *out = i < r->njobs ? r->jobs[i].out : (i == r->njobs ? r->o->stats_path : r->o->stats_svg);
+        const char *slash = out ? strrchr(out, '/') : NULL;
+        if (!out || strlen(slash ? slash + 1 : out) <= 255)
+            continue;
+        char *dir = slash ? strndup(out, (size_t)(slash - out) + (slash == out)) : strdup(".");
+        long most = dir ? pathconf(dir, _PC_NAME_MAX) : -1;
+        free(dir);
+        if (most <= 0)
+            most = 255;
+        if (strlen(slash ? slash + 1 : out) > (size_t)most)
+            return options_usage_error("convert", "the file name of %s is %zu bytes, over the %ld its file "
+                                       "system accepts", out, strlen(slash ? slash + 1 : out), most);
+    }
     for (size_t i = 0; i < r->njobs + 2; i++) {
         const char *out = i < r->njobs ? r->jobs[i].out : (i == r->njobs ? r->o->stats_path : r->o->stats_svg);
         if (!out)

@@ -39,7 +39,11 @@
  * (letters, digits, '.', '_' and '-' kept, others as '_', at most 64),
  * RAND 8 hex digits drawn once per process: shards on different hosts
  * sharing a network file system never collide, and a later run on the same
- * host can tell a dead process's leftovers (cli/stale.c).
+ * host can tell a dead process's leftovers (cli/stale.c). NAME is the
+ * output's name up to JMF_TEMP_STEM_MAX bytes; a longer one is cut to its
+ * first bytes and "~" and a hash of the whole (jmf_atomic_temp_stem), so
+ * the temporary's name stays within the 255 bytes file systems allow
+ * whatever the output's (issue 30: a 225-byte output name failed).
  */
 static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
 static char **g_pending;    /* temporaries on disk, registered */
@@ -179,20 +183,40 @@ int jmf_atomic_temp_parse(const char *name, jmf_temp_name *out)
     return 1;
 }
 
-/* "DIR/NAME" -> "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND"; NULL on allocation failure. */
+/* the bytes of a long name kept before its hash */
+#define TEMP_STEM_KEEP 100
+
+size_t jmf_atomic_temp_stem(const char *name, char *out)
+{
+    size_t n = strlen(name);
+    if (n <= JMF_TEMP_STEM_MAX) {
+        memcpy(out, name, n + 1);
+        return n;
+    }
+    /* FNV-1a, 64 bits, of the whole name */
+    uint64_t h = 14695981039346656037ull;
+    for (size_t i = 0; i < n; i++) h = (h ^ (unsigned char)name[i]) * 1099511628211ull;
+    size_t keep = TEMP_STEM_KEEP;
+    while (keep > 0 && ((unsigned char)name[keep] & 0xc0) == 0x80) keep--; /* not inside a UTF-8 character */
+    memcpy(out, name, keep);
+    return keep + (size_t)snprintf(out + keep, JMF_TEMP_STEM_MAX + 1 - keep, "~%016llx", (unsigned long long)h);
+}
+
+/* "DIR/NAME" -> "DIR/.STEM.jetmesh-tmp-HOST-PID-RAND"; NULL on allocation failure. */
 static char *temp_name_for(const char *path)
 {
     jmf_atomic_host();
     const char *slash = strrchr(path, '/');
     size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0;
-    const char *name = path + dirlen;
+    char stem[JMF_TEMP_STEM_MAX + 1];
+    jmf_atomic_temp_stem(path + dirlen, stem);
     char suffix[128];
     int sn = snprintf(suffix, sizeof suffix, "%s-%ld-%s", g_host, (long)getpid(), g_rand);
-    size_t len = dirlen + 1 + strlen(name) + strlen(TEMP_TAG) + (size_t)sn + 1;
+    size_t len = dirlen + 1 + strlen(stem) + strlen(TEMP_TAG) + (size_t)sn + 1;
     char *t = malloc(len);
     if (!t) return NULL;
     memcpy(t, path, dirlen);
-    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", name, suffix);
+    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", stem, suffix);
     return t;
 }
 
@@ -249,7 +273,10 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
             }
             keep_mode = st.st_mode & 07777;
         }
-    } else if (errno != ENOENT) {
+    } else if (errno != ENOENT && errno != ENAMETOOLONG) {
+        /* a name too long for the file system cannot exist: its temporary's
+         * is short, and a rename into place says so (a scratch file that is
+         * never renamed, "NAME.glb.frames", works) */
         set_err(err, errlen, "%s: %s", path, strerror(errno));
         return JMF_E_IO;
     }

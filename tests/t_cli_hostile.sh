@@ -73,3 +73,29 @@ cube=$(sed -n 's/.*: --cube-size \([0-9.]*\) or more reaches them.*/\1/p' "$T/er
 [ -n "$cube" ] || { cat "$T/err"; fail "far from the origin: no cube size that reaches"; }
 run 0 convert "$T/off.csv" -r 0.01 -c "$cube" --field sph -o "$T/off.obj"
 echo "ok: particles beyond the lattice's reach get advice that helps"
+
+# 7. any output name the file system accepts works: the temporary's name
+#    is cut short (".NAME.jetmesh-tmp-HOST-PID-RAND" passed 255 bytes), and
+#    a killed run's leftover of such a name is still cleared
+B=${JETMESH_BUILD:-$ROOT/build}
+[ -x "$B/tools/temp_stem" ] || fail "$B/tools/temp_stem is missing: run make tests-build"
+long=$(awk 'BEGIN { s = ""; for (i = 0; i < 246; i++) s = s "n"; print s }')
+mkdir "$T/long"
+run 0 convert "$S/jet_050.csv" -r 0.025 -o "$T/long/$long.obj"
+cmp -s "$T/long/$long.obj" "$T/file.obj" || fail "a 250-byte output name: not written"
+run 0 convert "$S/jet_050.csv" -r 0.025 -o "$T/long/${long}x.gltf"
+[ -f "$T/long/${long}x.bin" ] || fail "a 252-byte .gltf name: no .bin"
+run 0 convert "$S/jet_050.csv" "$S/jet_051.csv" -r 0.025 --animate -o "$T/long/$long.glb"
+run 2 convert "$S/jet_050.csv" -r 0.025 -o "$T/long/${long}nnnnnnnnnn.obj"
+grep -q '260 bytes, over the 255' "$T/err" || { cat "$T/err"; fail "a 260-byte name: not refused before the work"; }
+sh -c 'exit 0' &
+dead=$!
+wait "$dead"
+host=$(uname -n | cut -c1-64 | tr -c 'A-Za-z0-9._\n-' '_')
+stem=$("$B/tools/temp_stem" "$long.obj")
+[ "${#stem}" -lt 130 ] || fail "the stem of a long name is ${#stem} bytes"
+touch "$T/long/.$stem.jetmesh-tmp-$host-$dead-0123abcd"
+run 0 convert "$S/jet_050.csv" -r 0.025 -o "$T/long/$long.obj"
+grep -q 'removed 1 temporary left by an interrupted run' "$T/out" || { cat "$T/out"; fail "a long name's leftover not cleared"; }
+no_temps
+echo "ok: output names up to 255 bytes"
