@@ -99,3 +99,54 @@ run 0 convert "$S/jet_050.csv" -r 0.025 -o "$T/long/$long.obj"
 grep -q 'removed 1 temporary left by an interrupted run' "$T/out" || { cat "$T/out"; fail "a long name's leftover not cleared"; }
 no_temps
 echo "ok: output names up to 255 bytes"
+
+# 8. no accepted option writes a non-finite number: --fps 1e-40 wrote
+#    "max":[inf] into the GLB's JSON, --uv-scale 1.2e-38 inf texture
+#    coordinates; both are refused naming the range, and the extremes that
+#    are accepted write finite numbers
+run 2 convert "$S/jet_050.csv" -r 0.025 --animate --fps 1e-40 -o "$T/a.glb"
+grep -q -- "--fps must be a number from 0.001 to 100000, not '1e-40'" "$T/err" || { cat "$T/err"; fail "--fps 1e-40"; }
+run 2 convert "$S/jet_050.csv" -r 0.025 --uv-scale 1.2e-38 -o "$T/uv.obj"
+grep -q -- "--uv-scale 1.2e-38 is out of range; accepted: .*1e-06 radius" "$T/err" || { cat "$T/err"; fail "--uv-scale 1.2e-38"; }
+mkdir "$T/big"
+cp "$S/jet_050.csv" "$T/big/f_999999999999.csv"
+cp "$S/jet_051.csv" "$T/big/f_999999999998.csv"
+run 0 convert "$T/big/f_{}.csv" -r 0.025 --animate --fps 0.001 -o "$T/big/a.gltf"
+if grep -Eiq 'inf|nan' "$T/big/a.gltf"; then fail "--fps 0.001: a non-finite number in the glTF JSON"; fi
+awk -F, 'NR == 1 { print; next } { printf "%.9g,%.9g,%.9g\n", $1 + 800, $2, $3 }' "$S/jet_050.csv" >"$T/edge.csv"
+run 0 convert "$T/edge.csv" -r 0.025 --uv-scale 2.5e-8 -o "$T/edge.obj"
+if grep -Eiq '^vt .*(inf|nan)' "$T/edge.obj"; then fail "--uv-scale at its least: non-finite texture coordinates"; fi
+run 0 convert "$T/big/f_{}.csv" -r 0.025 --pvd --time-step 1e30 -o "$T/big/m_{}.vtk"
+ls "$T/big/"*.pvd >/dev/null 2>&1 || fail "--pvd wrote no collection"
+if grep -Eiq 'inf|nan' "$T/big/"*.pvd; then fail "--time-step 1e30: a non-finite time"; fi
+printf 'index,input,output,particles,dropped,vertices,triangles,bytes,ms_read,ms_field,ms_extract,ms_attributes,ms_write,ms_total,peak_rss_bytes,lib_peak_bytes,status,error\n# summary wall_seconds=inf\n' >"$T/inf.csv"
+run 0 stats merge "$T/inf.csv" -o "$T/merged.json"
+if grep -Eiq 'inf|nan' "$T/merged.json"; then fail "stats merge: a non-finite number from its input"; fi
+echo "ok: only finite numbers in the outputs"
+
+# 9. every numeric option's message names the range it accepts
+range_named() { # command option-and-value...
+    cmd=$1; shift
+    # shellcheck disable=SC2086
+    "$J" $cmd "$@" >"$T/out" 2>"$T/err"
+    [ $? = 2 ] || { cat "$T/err"; fail "$cmd $*: not a usage error"; }
+    grep -Eq '(from [-0-9.e+]+|[0-9] to [-0-9]|above -?[0-9]|or more|<= )' "$T/err" ||
+        { cat "$T/err"; fail "$cmd $*: the message names no range"; }
+}
+for a in "-r 1e35" "-c x" "--threshold x" "--smoothing-length x" "--link-distance 0" "-j 99999" \
+    "--uv-scale 0" "--smooth -1" "--smooth-normals x" "--simplify -1" "--draco-position-bits 0" \
+    "--draco-normal-bits 99" "--draco-uv-bits x" "--frame-jobs 99" "--max-memory x" \
+    "--anisotropic-radius 0" "--fps 0" "--time-step 0" "--frames x" "--shard 1/x"; do
+    # shellcheck disable=SC2086
+    range_named convert "$S/jet_050.csv" -r 0.025 -o "$T/r.obj" $a
+done
+for a in "-r 0" "--seed x" "block x"; do
+    # shellcheck disable=SC2086
+    range_named generate $a -o "$T/g.csv"
+done
+for a in "-r 0" "-c 0" "-j 99999" "--smoothing-length 0" "--link-distance 0" "--threshold x" "--seed x" \
+    "--min-time -1" "--repeat 0" "--max-repeat 0" "--warmup 0" "--smooth x" "--simplify x" "block:x"; do
+    # shellcheck disable=SC2086
+    range_named bench $a
+done
+echo "ok: every numeric option names its range"
