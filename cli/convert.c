@@ -27,6 +27,7 @@
 #include "signals.h"
 #include "stale.h"
 #include "stats/stats.h"
+#include "stdout_check.h"
 #include "vertex_attrs.h"
 
 /* One frame to convert. */
@@ -226,7 +227,7 @@ static void take_shard(run *r)
         long i = r->o->shard.index, n = r->o->shard.count;
         printf("shard %ld/%ld: %zu of the %zu frames (positions %ld, %ld, %ld... from 0)\n", i, n, k,
                r->planned, i, i + n, i + 2 * n);
-        fflush(stdout);
+        stdout_check();
     }
 }
 
@@ -531,7 +532,7 @@ static void print_params(const run *r)
     printf("frames at once %d, uv %s, normals %s, max memory %s; output %s%s\n", frame_jobs(r), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
            p.max_bytes ? platform_format_bytes(p.max_bytes, mem, sizeof mem) : "no limit",
            jmf_output_format_name(r->o->write.format), r->o->write.draco ? " with Draco" : "");
-    fflush(stdout);
+    stdout_check();
 }
 
 static int read_status(jmf_status s)
@@ -747,7 +748,7 @@ static int report(run *r, const job *jb, outcome *oc)
             printf(": skipped, ");
             print_path(stdout, rec->output);
             printf(" exists (--resume)\n");
-            fflush(stdout);
+            stdout_check();
         }
         return 0;
     }
@@ -783,7 +784,7 @@ static int report(run *r, const job *jb, outcome *oc)
                    platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), rec->bytes);
         if (o->verbose && st->ms_post > 0.0)
             printf("  post-processing (smoothing, simplification) %.2f ms\n", st->ms_post);
-        fflush(stdout);
+        stdout_check();
     }
     return 0;
 }
@@ -959,7 +960,7 @@ static void write_reports(run *r, double wall_ms)
                "field %s, method %s (%s)\n",
                sum.ok, r->njobs, sum.failed, sum.skipped, sum.wall_seconds, sum.frames_per_second,
                sum.field, sum.method, sum.field_choice);
-        fflush(stdout);
+        stdout_check();
     }
 }
 
@@ -1011,7 +1012,7 @@ static void finish_animation(run *r)
     }
     if (!r->o->quiet) {
         printf("animated %zu frames at %g fps -> %s (%zu bytes)\n", r->njobs, r->o->fps, r->o->output, bytes);
-        fflush(stdout);
+        stdout_check();
     }
 }
 

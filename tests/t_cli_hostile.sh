@@ -150,3 +150,21 @@ for a in "-r 0" "-c 0" "-j 99999" "--smoothing-length 0" "--link-distance 0" "--
     range_named bench $a
 done
 echo "ok: every numeric option names its range"
+
+# 10. a write error on standard output fails the run, said once on stderr
+#     (the per-frame lines scripts parse were lost silently, exit 0)
+[ -w /dev/full ] || fail "no /dev/full on this system"
+"$J" convert "$S/jet_050.csv" "$S/jet_051.csv" -r 0.025 -o "$T/full_{}.obj" >/dev/full 2>"$T/err"
+st=$?
+[ "$st" = 1 ] || { cat "$T/err"; fail "convert > /dev/full: exit $st"; }
+[ "$(grep -c 'cannot write standard output: No space left on device' "$T/err")" = 1 ] ||
+    { cat "$T/err"; fail "convert > /dev/full: not said once"; }
+[ -f "$T/full_050.obj" ] && [ -f "$T/full_051.obj" ] || fail "convert > /dev/full: the frames were not written"
+"$J" convert "$S/jet_050.csv" -r 0.025 -q -o "$T/full.obj" >/dev/full 2>"$T/err" || { cat "$T/err"; fail "-q > /dev/full"; }
+for c in "--help" "convert --help" "--version" "generate jet -o $T/g.csv"; do
+    # shellcheck disable=SC2086
+    "$J" $c >/dev/full 2>"$T/err"
+    st=$?
+    [ "$st" = 1 ] && grep -q 'cannot write standard output' "$T/err" || { cat "$T/err"; fail "$c > /dev/full: exit $st"; }
+done
+echo "ok: write errors on standard output fail the run"
