@@ -168,3 +168,15 @@ for c in "--help" "convert --help" "--version" "generate jet -o $T/g.csv"; do
     [ "$st" = 1 ] && grep -q 'cannot write standard output' "$T/err" || { cat "$T/err"; fail "$c > /dev/full: exit $st"; }
 done
 echo "ok: write errors on standard output fail the run"
+
+# 12. stats merge refuses to write over one of its inputs, as convert does
+run 0 convert "$S/jet_050.csv" -r 0.025 -q -o "$T/s.obj" --stats "$T/s1.csv"
+cp "$T/s1.csv" "$T/keep.csv"
+run 2 stats merge "$T/s1.csv" -o "$T/s1.csv"
+grep -q 'refusing to overwrite the input file' "$T/err" || { cat "$T/err"; fail "stats merge -o its input"; }
+ln -s s1.csv "$T/link.json"
+run 2 stats merge "$T/s1.csv" -o "$T/link.json"
+run 2 stats merge "$T/s1.csv" -o "$T/m.csv" --svg "$T/s1.csv"
+cmp -s "$T/s1.csv" "$T/keep.csv" || fail "stats merge replaced its input"
+run 0 stats merge "$T/s1.csv" -o "$T/m.csv" --svg "$T/m.svg"
+echo "ok: stats merge keeps its inputs"
