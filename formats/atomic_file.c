@@ -33,7 +33,9 @@
  * temporary over a device node would replace the device, which is never
  * what the user meant. Such a write is not atomic, but errors are still
  * reported. A symbolic link is followed: the file it points to is replaced
- * and the link kept.
+ * and the link kept; a dangling one alike, its target created (as a
+ * shell's redirection does; issue 30: it was replaced by a file while a
+ * live one was written through); a loop of links is an error.
  *
  * Names: "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND", HOST this machine's name
  * (letters, digits, '.', '_' and '-' kept, others as '_', at most 64),
@@ -220,6 +222,42 @@ static char *temp_name_for(const char *path)
     return t;
 }
 
+/* The missing file at the end of a chain of symbolic links from path (a
+ * dangling link's target; a relative link is relative to its directory);
+ * NULL when the chain loops, ends in an existing file, or cannot be read
+ * (errno says why: ELOOP for a loop). */
+static char *dangling_target(const char *path)
+{
+    char *cur = dup_str(path);
+    for (int hops = 0; cur && hops < 40; hops++) {
+        struct stat st;
+        if (lstat(cur, &st) != 0) {
+            if (errno == ENOENT) return cur;
+            break;
+        }
+        if (!S_ISLNK(st.st_mode)) {
+            errno = EEXIST;
+            break;
+        }
+        char to[4096];
+        ssize_t n = readlink(cur, to, sizeof to - 1);
+        if (n < 0) break;
+        to[n] = '\0';
+        const char *slash = strrchr(cur, '/');
+        size_t dl = to[0] == '/' || !slash ? 0 : (size_t)(slash - cur) + 1;
+        char *next = malloc(dl + (size_t)n + 1);
+        if (next) {
+            memcpy(next, cur, dl);
+            memcpy(next + dl, to, (size_t)n + 1);
+        }
+        free(cur);
+        cur = next;
+        errno = ELOOP;
+    }
+    free(cur);
+    return NULL;
+}
+
 static void release(jmf_atomic_file *af)
 {
     free(af->final_path);
@@ -262,7 +300,11 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
     if (lstat(path, &st) == 0) {
         if (S_ISLNK(st.st_mode)) {
             char *real = realpath(path, NULL); /* NULL for a dangling link */
-            if (real) target = real;
+            target = real ? real : dangling_target(path);
+            if (!target) {
+                set_err(err, errlen, "%s: a symbolic link that cannot be followed: %s", path, strerror(errno));
+                return JMF_E_IO;
+            }
         }
         if (stat(target ? target : path, &st) == 0) {
             exists = 1;

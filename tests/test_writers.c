@@ -1156,6 +1156,19 @@ static void test_atomic_through_symlink(void **state)
     assert_int_equal(lstat(in_dir("link.txt"), &st), 0);
     assert_true(S_ISLNK(st.st_mode));
     assert_true(file_equals(in_dir("real.txt"), "new"));
+    /* a dangling link alike: its target is created, the link kept (issue
+     * 30: it was replaced by a file); a loop is refused */
+    assert_int_equal(symlink("made.txt", in_dir("dangling.txt")), 0);
+    assert_int_equal(jmf_atomic_open(&af, in_dir("dangling.txt"), err, sizeof err), JMF_OK);
+    assert_int_equal(jmf_atomic_write(&af, "made", 4, err, sizeof err), JMF_OK);
+    assert_int_equal(jmf_atomic_commit(&af, err, sizeof err), JMF_OK);
+    assert_int_equal(lstat(in_dir("dangling.txt"), &st), 0);
+    assert_true(S_ISLNK(st.st_mode));
+    assert_true(file_equals(in_dir("made.txt"), "made"));
+    assert_int_equal(symlink("loop.txt", in_dir("loop.txt")), 0);
+    assert_int_equal(jmf_atomic_open(&af, in_dir("loop.txt"), err, sizeof err), JMF_E_IO);
+    assert_non_null(strstr(err, "symbolic link"));
+    assert_int_equal(temp_files(), 0);
 }
 
 int main(void)
