@@ -64,6 +64,7 @@ typedef struct run {
     float neighbours;   /* jm_choose_field's measure on choice_frame; < 0: none */
     long choice_frame;
     size_t empty; /* frames with particles that gave no triangle */
+    size_t no_particles; /* frames with none */
     size_t planned; /* frames of the whole run, all shards together */
     inputs in;          /* each frame's reads (a pipe read once) */
     jmf_anim *anim;     /* --animate: the one file being written */
@@ -763,6 +764,8 @@ static int report(run *r, const job *jb, outcome *oc)
     }
     if (rec->particles > 0 && rec->triangles == 0 && r->empty++ == 0)
         param_errors_warn_empty(rec->index, rec->input, rec->particles, &o->params);
+    if (rec->particles == 0 && r->no_particles++ == 0)
+        param_errors_warn_no_particles(rec->index, rec->input, rec->dropped);
     if (!o->quiet) {
         const jm_stats *st = &oc->st;
         progress_clear(&r->bar);
@@ -969,6 +972,8 @@ static void list_failures(const run *r)
     if (r->empty > 1)
         fprintf(stderr, "jetmesh: warning: %zu frames with particles gave empty meshes (see the first above)\n",
                 r->empty);
+    if (r->no_particles > 1)
+        fprintf(stderr, "jetmesh: warning: %zu frames had no particles (see the first above)\n", r->no_particles);
     if (r->failed == 0)
         return;
     if (!r->o->keep_going) {

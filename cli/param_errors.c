@@ -187,3 +187,17 @@ void param_errors_warn_empty(long index, const char *path, size_t particles, con
                                            : "metasphere: 1 at a particle's centre",
             sph ? "0.6" : "0", cube_in_force(p));
 }
+
+void param_errors_warn_no_particles(long index, const char *path, size_t dropped)
+{
+    if (dropped)
+        fprintf(stderr,
+                "jetmesh: warning: frame %ld (%s): all %zu particles were dropped (--drop-invalid): its mesh is "
+                "empty\n",
+                index, path, dropped);
+    else
+        fprintf(stderr,
+                "jetmesh: warning: frame %ld (%s): the file holds no particles (a CSV with only its header, a "
+                "VTU without a <Piece>, a count of 0): its mesh is empty\n",
+                index, path);
+}

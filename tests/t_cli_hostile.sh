@@ -180,3 +180,27 @@ run 2 stats merge "$T/s1.csv" -o "$T/m.csv" --svg "$T/s1.csv"
 cmp -s "$T/s1.csv" "$T/keep.csv" || fail "stats merge replaced its input"
 run 0 stats merge "$T/s1.csv" -o "$T/m.csv" --svg "$T/m.svg"
 echo "ok: stats merge keeps its inputs"
+
+# 14. a frame with no particles converts to an empty mesh and says so; a
+#     symbolic link at the output is followed, dangling or not (a dangling
+#     one was replaced by a file while a live one was written through)
+printf 'x,y,z\n' >"$T/header.csv"
+run 0 convert "$T/header.csv" -r 0.025 -o "$T/header.obj"
+grep -q 'warning: frame 0 (.*header.csv): the file holds no particles' "$T/err" || { cat "$T/err"; fail "no warning for a header-only CSV"; }
+printf '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid"><UnstructuredGrid></UnstructuredGrid></VTKFile>\n' >"$T/nopiece.vtu"
+run 0 convert "$T/nopiece.vtu" -r 0.025 -o "$T/nopiece.obj"
+grep -q 'the file holds no particles' "$T/err" || { cat "$T/err"; fail "no warning for a VTU without a Piece"; }
+mkdir "$T/links"
+ln -s real.obj "$T/links/dangling.obj"
+run 0 convert "$S/jet_050.csv" -r 0.025 -o "$T/links/dangling.obj"
+[ -L "$T/links/dangling.obj" ] || fail "a dangling link at the output was replaced"
+cmp -s "$T/links/real.obj" "$T/file.obj" || fail "a dangling link's target was not written"
+ln -s real2.obj "$T/links/live.obj"
+cp "$T/header.obj" "$T/links/real2.obj"
+run 0 convert "$S/jet_050.csv" -r 0.025 -o "$T/links/live.obj"
+[ -L "$T/links/live.obj" ] && cmp -s "$T/links/real2.obj" "$T/file.obj" || fail "a live link: not written through"
+ln -s loop.obj "$T/links/loop.obj"
+run 1 convert "$S/jet_050.csv" -r 0.025 -o "$T/links/loop.obj"
+grep -q 'symbolic link' "$T/err" || { cat "$T/err"; fail "a loop of links: no message"; }
+no_temps
+echo "ok: empty frames said; output links followed"
