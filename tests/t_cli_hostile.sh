@@ -204,3 +204,41 @@ run 1 convert "$S/jet_050.csv" -r 0.025 -o "$T/links/loop.obj"
 grep -q 'symbolic link' "$T/err" || { cat "$T/err"; fail "a loop of links: no message"; }
 no_temps
 echo "ok: empty frames said; output links followed"
+
+# 4. PLY output of many long attribute names ("generator name too long")
+awk 'BEGIN { n = 40; s = "x,y,z"; for (i = 0; i < n; i++) { s = s ",q" i "_"; for (k = 0; k < 60; k++) s = s "a" } print s;
+             for (r = 0; r < 60; r++) { s = (r % 4) * 0.04 "," int(r / 4) % 4 * 0.04 "," int(r / 16) * 0.04;
+                                        for (i = 0; i < n; i++) s = s "," i; print s } }' >"$T/names.csv"
+run 0 convert "$T/names.csv" -r 0.025 --attributes all -o "$T/names.ply"
+[ "$(sed -n '/end_header/q;p' "$T/names.ply" | grep -c '^property float q[0-9]*_a')" = 40 ] || fail "PLY: not every attribute in the header"
+echo "ok: PLY headers of any length"
+
+# 5. a file that cannot hold what it claims is a bad frame (exit 1 with
+#    its offset), whatever the encoding and --max-memory, not exit 3
+# a UInt64 header claiming 2^31 * 12 bytes (little-endian), then 24 bytes
+printf '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" header_type="UInt64">\n<UnstructuredGrid><Piece NumberOfPoints="2147483648"><Points><DataArray type="Float32" NumberOfComponents="3" format="binary">%s</DataArray></Points></Piece></UnstructuredGrid></VTKFile>\n' \
+    "$(printf '\000\000\000\000\006\000\000\000' | cat - /dev/zero | head -c 32 | base64 | tr -d '\n')" >"$T/lie.vtu"
+for m in 100T 0; do
+    run 1 convert "$T/lie.vtu" -r 0.025 -o "$T/lie.obj" --max-memory "$m"
+    grep -q 'lie.vtu: byte [0-9]*: truncated Points' "$T/err" || { cat "$T/err"; fail "VTU claiming 2^31 points (--max-memory $m)"; }
+done
+printf '# vtk DataFile Version 4.1\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 2 float\n0 0 0 0.04 0 0\nPOINT_DATA 2\nFIELD FieldData 1\nvelocity 3 4000000000 float\n1 2 3 4 5 6\n' >"$T/lie.vtk"
+run 1 convert "$T/lie.vtk" -r 0.025 -o "$T/lie.ply" --attributes velocity
+grep -q 'lie.vtk:10: truncated FIELD array' "$T/err" || { cat "$T/err"; fail "VTK FIELD claiming 4e9 tuples"; }
+# (the issue's example said "over --max-memory 0 B" with --max-memory 0)
+if grep -q 'max-memory 0 B' "$T/err"; then fail "over --max-memory 0 B"; fi
+echo "ok: claims beyond the bytes are bad frames"
+
+# 11. PLY with more rows than its header declares is refused, as VTK is
+printf 'ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n0.04 0 0\n0.08 0 0\n' >"$T/rows.ply"
+run 1 convert "$T/rows.ply" -r 0.025 -o "$T/rows.obj"
+grep -q 'rows.ply:10: data after the last element' "$T/err" || { cat "$T/err"; fail "PLY rows past the count"; }
+echo "ok: PLY rows past the count refused"
+
+# 13. a VTU DataArray in a CDATA section is read; problems in one name their byte
+printf '<VTKFile type="UnstructuredGrid"><UnstructuredGrid><Piece NumberOfPoints="2"><Points><DataArray type="Float32" NumberOfComponents="3" format="ascii"><![CDATA[0 0 0 0.04 0 0]]></DataArray></Points></Piece></UnstructuredGrid></VTKFile>\n' >"$T/cdata.vtu"
+run 0 convert "$T/cdata.vtu" -r 0.025 -o "$T/cdata.obj"
+printf '<VTKFile type="UnstructuredGrid"><UnstructuredGrid><Piece NumberOfPoints="2"><Points><DataArray type="Float32" NumberOfComponents="3" format="ascii"><![CDATA[0 0 0]]></DataArray></Points></Piece></UnstructuredGrid></VTKFile>\n' >"$T/cdata2.vtu"
+run 1 convert "$T/cdata2.vtu" -r 0.025 -o "$T/cdata.obj"
+grep -q 'cdata2.vtu: byte 1[0-9][0-9]: truncated Points' "$T/err" || { cat "$T/err"; fail "CDATA: not its byte"; }
+echo "ok: CDATA sections"
