@@ -130,7 +130,8 @@ range_named() { # command option-and-value...
     # shellcheck disable=SC2086
     "$J" $cmd "$@" >"$T/out" 2>"$T/err"
     [ $? = 2 ] || { cat "$T/err"; fail "$cmd $*: not a usage error"; }
-    grep -Eq '(from [-0-9.e+]+|[0-9] to [-0-9]|above -?[0-9]|or more|<= )' "$T/err" ||
+    # both ends: "from A to B", "above -1 and below 1", "0 (no limit) or more", "0 <= I < N <= M"
+    grep -Eq '([0-9] (R )?to [-0-9]|above -1 and below 1|\(no limit\) or more|<= .* <= )' "$T/err" ||
         { cat "$T/err"; fail "$cmd $*: the message names no range"; }
 }
 for a in "-r 1e35" "-c x" "--threshold x" "--smoothing-length x" "--link-distance 0" "-j 99999" \
