@@ -548,6 +548,41 @@ static void outcome_fail(outcome *oc, const char *msg, int status)
     oc->status = status;
 }
 
+/* The message (into msg) and exit status of a frame the library refused
+ * with ms; outside: its coordinates are beyond the lattice's reach. */
+static int mesh_failure(const convert_options *o, const char *path, const jm_particles *parts, jm_status ms,
+                        size_t est, int outside, char *msg, size_t len)
+{
+    if (outside) {
+        /* no memory changes that: a frame this tool cannot mesh as it is (issue 30) */
+        domain_advice(msg, len, path, &o->params, parts);
+        return EXIT_SOME_FAILED;
+    }
+    if (ms == JM_E_TOO_LARGE) {
+        /* names --cube-size when the machine itself could not hold it */
+        param_errors_too_large(msg, len, path, &o->params, parts, est, o->max_memory);
+        return EXIT_RESOURCE;
+    }
+    if (ms == JM_E_TOO_DENSE) {
+        snprintf(msg, len,
+                 "%s: %zu particles packed far closer than their radius %g: many duplicated "
+                 "particles, or -r far too large for their spacing (the neighbour search is "
+                 "bounded; see jetmesh(1), LIMITS)",
+                 path, parts->count, (double)o->params.radius);
+        return EXIT_SOME_FAILED;
+    }
+    if (ms == JM_E_NUMERIC_DOMAIN) {
+        param_errors_domain(msg, len, path, &o->params, parts);
+        return EXIT_SOME_FAILED;
+    }
+    if (ms == JM_E_INVALID_PARTICLE) {
+        snprintf(msg, len, "%s: %s (--drop-invalid skips such particles)", path, jm_status_message(ms));
+        return EXIT_SOME_FAILED;
+    }
+    snprintf(msg, len, "%s: %s", path, jm_status_message(ms));
+    return ms == JM_E_INVALID_ARGUMENT ? EXIT_SOME_FAILED : EXIT_RESOURCE;
+}
+
 /* Reads, meshes and writes one frame with ctx, staging the output (its
  * temporaries complete, not yet renamed). Prints nothing: the outcome is
  * reported in frame order by report(). shared: ctx has only a share of
@@ -600,7 +635,6 @@ static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx,
     jm_status ms = jm_mesh_particles(ctx, &parts, &mesh, st);
     double t2 = platform_now_ms();
     if (ms != JM_OK) {
-        int status = EXIT_RESOURCE;
         /* the library's own estimate, the one it refused on */
         size_t est = st->estimated_bytes;
         if (ms == JM_E_TOO_LARGE && !est) jm_estimate_bytes(ctx, &parts, &est);
@@ -610,33 +644,7 @@ static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx,
             oc->retry = 1;
             return;
         }
-        if (outside) {
-            /* coordinates beyond the lattice's reach, which no memory
-             * changes: a frame this tool cannot mesh as it is (issue 30) */
-            domain_advice(msg, sizeof msg, f->path, &o->params, &parts);
-            status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_TOO_LARGE)
-            /* names --cube-size when the machine itself could not hold it */
-            param_errors_too_large(msg, sizeof msg, f->path, &o->params, &parts, est, o->max_memory);
-        else if (ms == JM_E_TOO_DENSE) {
-            snprintf(msg, sizeof msg,
-                     "%s: %zu particles packed far closer than their radius %g: many duplicated "
-                     "particles, or -r far too large for their spacing (the neighbour search is "
-                     "bounded; see jetmesh(1), LIMITS)",
-                     f->path, fr.count, (double)o->params.radius);
-            status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_NUMERIC_DOMAIN) {
-            param_errors_domain(msg, sizeof msg, f->path, &o->params, &parts);
-            status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_INVALID_PARTICLE) {
-            snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
-                     jm_status_message(ms));
-            status = EXIT_SOME_FAILED;
-        } else {
-            snprintf(msg, sizeof msg, "%s: %s", f->path, jm_status_message(ms));
-            if (ms == JM_E_INVALID_ARGUMENT)
-                status = EXIT_SOME_FAILED;
-        }
+        int status = mesh_failure(o, f->path, &parts, ms, est, outside, msg, sizeof msg);
         jmf_frame_free(&fr);
         rec->ms_field = st->ms_prepare + st->ms_field;
         rec->ms_total = t2 - t0;
@@ -1060,11 +1068,11 @@ static void run_free(run *r)
     for (size_t i = 0; i < r->njobs; i++)
         free(r->jobs[i].out);
     free(r->jobs);
+    inputs_free(&r->in);
     seq_list_free(&r->frames);
     stats_free(&r->log);
     jm_context_free(r->ctx);
     free_workers(r);
-    inputs_free(&r->in);
     free(r->oc);
     jmf_anim_abort(r->anim);
     free(r->o->attributes_all);

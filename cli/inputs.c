@@ -12,6 +12,7 @@ int inputs_init(inputs *in, const seq_list *frames, size_t max_bytes)
     in->frames = frames;
     in->max_bytes = max_bytes;
     in->kept = calloc(frames->count ? frames->count : 1, sizeof *in->kept);
+    in->n = in->kept ? frames->count : 0;
     return in->kept ? 0 : -1;
 }
 
@@ -101,8 +102,9 @@ void inputs_release(inputs *in, size_t i)
 
 void inputs_free(inputs *in)
 {
-    for (size_t i = 0; in->kept && i < in->frames->count; i++)
+    for (size_t i = 0; i < in->n; i++)
         inputs_release(in, i);
     free(in->kept);
     in->kept = NULL;
+    in->n = 0;
 }

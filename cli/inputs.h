@@ -32,6 +32,7 @@ typedef struct inputs_kept {
 typedef struct inputs {
     const seq_list *frames;
     inputs_kept *kept;   /* one per frame of frames */
+    size_t n;            /* how many */
     size_t max_bytes;    /* the run's whole --max-memory: a kept input is read
                             against it, never against a worker's share */
 } inputs;
