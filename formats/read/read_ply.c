@@ -214,6 +214,37 @@ static jmf_status read_elem(body *b, const elem *e, const prop *props, jmr_point
     return JMF_OK;
 }
 
+/* The vertex element's other scalar properties asked for as attributes
+ * (grouped NAME_x/_y/_z), kept once the rows claimed can be in the file
+ * at all (elem_fits). */
+static jmf_status begin_attrs(const body *b, const elem *e, prop *props, jmr_points *pts)
+{
+    const char *nm[MAX_PROPS];
+    size_t nl[MAX_PROPS], ng, k;
+    int skip[MAX_PROPS];
+    jmr_colgroup g[MAX_PROPS];
+    jmf_status st = elem_fits(b, e, props);
+    if (st) return st;
+    for (k = 0; k < e->nprops; k++) {
+        const prop *p = &props[e->first + k];
+        nm[k] = p->name;
+        nl[k] = p->namelen;
+        skip[k] = p->role != -1 || p->count_type != JMR_T_NONE || (p->namelen == 2 && memcmp(p->name, "id", 2) == 0);
+    }
+    ng = jmr_group_columns(nm, nl, skip, e->nprops, g);
+    for (k = 0; k < ng; k++) {
+        jmr_attr *a = NULL;
+        st = jmr_attr_begin(pts, b->ctx, g[k].name, strlen(g[k].name), (size_t)g[k].comps, e->count,
+                            jmr_line(e->line), &a);
+        if (st) return st;
+        for (int c = 0; a && c < g[k].comps; c++) {
+            props[e->first + g[k].cols[c]].attr = a;
+            props[e->first + g[k].cols[c]].comp = (size_t)c;
+        }
+    }
+    return JMF_OK;
+}
+
 jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
 {
     prop props[MAX_PROPS];
@@ -363,32 +394,8 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
         b.ctx = ctx;
         b.format = format;
         if (jmr_attrs_wanted(ctx) && e->nprops) {
-            /* the other scalar vertex properties: attributes, kept once
-             * the rows claimed can be in the file at all */
-            st = elem_fits(&b, e, props);
+            st = begin_attrs(&b, e, props, pts);
             if (st) return st;
-            const char *nm[MAX_PROPS];
-            size_t nl[MAX_PROPS], ng;
-            int skip[MAX_PROPS];
-            jmr_colgroup g[MAX_PROPS];
-            for (k = 0; k < e->nprops; k++) {
-                const prop *p = &props[e->first + k];
-                nm[k] = p->name;
-                nl[k] = p->namelen;
-                skip[k] = p->role != -1 || p->count_type != JMR_T_NONE ||
-                          (p->namelen == 2 && memcmp(p->name, "id", 2) == 0);
-            }
-            ng = jmr_group_columns(nm, nl, skip, e->nprops, g);
-            for (k = 0; k < ng; k++) {
-                jmr_attr *a = NULL;
-                st = jmr_attr_begin(pts, ctx, g[k].name, strlen(g[k].name), (size_t)g[k].comps, e->count,
-                                    jmr_line(e->line), &a);
-                if (st) return st;
-                for (int c = 0; a && c < g[k].comps; c++) {
-                    props[e->first + g[k].cols[c]].attr = a;
-                    props[e->first + g[k].cols[c]].comp = (size_t)c;
-                }
-            }
         }
     }
 
