@@ -7,13 +7,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "../formats/gltf/gltf_anim.h"
 #include "../formats/reader.h"
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
+#include "domain_advice.h"
 #include "farm.h"
+#include "inputs.h"
 #include "options.h"
 #include "param_errors.h"
 #include "platform.h"
@@ -24,6 +27,7 @@
 #include "signals.h"
 #include "stale.h"
 #include "stats/stats.h"
+#include "stdout_check.h"
 #include "vertex_attrs.h"
 
 /* One frame to convert. */
@@ -60,7 +64,9 @@ typedef struct run {
     float neighbours;   /* jm_choose_field's measure on choice_frame; < 0: none */
     long choice_frame;
     size_t empty; /* frames with particles that gave no triangle */
+    size_t no_particles; /* frames with none */
     size_t planned; /* frames of the whole run, all shards together */
+    inputs in;          /* each frame's reads (a pipe read once) */
     jmf_anim *anim;     /* --animate: the one file being written */
     int anim_failed;    /* a frame could not be added to it */
     int anim_full;      /* it would pass its size limit: the run stops */
@@ -224,7 +230,7 @@ static void take_shard(run *r)
         long i = r->o->shard.index, n = r->o->shard.count;
         printf("shard %ld/%ld: %zu of the %zu frames (positions %ld, %ld, %ld... from 0)\n", i, n, k,
                r->planned, i, i + n, i + 2 * n);
-        fflush(stdout);
+        stdout_check();
     }
 }
 
@@ -362,6 +368,21 @@ static int check_writable(run *r)
 {
     const char *last = NULL;
     size_t lastlen = 0;
+    /* a file name the file system cannot hold fails before any work */
+    for (size_t i = 0; i < r->njobs + 2; i++) {
+        const char *out = i < r->njobs ? r->jobs[i].out : (i == r->njobs ? r->o->stats_path : r->o->stats_svg);
+        const char *slash = out ? strrchr(out, '/') : NULL;
+        if (!out || strlen(slash ? slash + 1 : out) <= 255)
+            continue;
+        char *dir = slash ? strndup(out, (size_t)(slash - out) + (slash == out)) : strdup(".");
+        long most = dir ? pathconf(dir, _PC_NAME_MAX) : -1;
+        free(dir);
+        if (most <= 0)
+            most = 255;
+        if (strlen(slash ? slash + 1 : out) > (size_t)most)
+            return options_usage_error("convert", "the file name of %s is %zu bytes, over the %ld its file "
+                                       "system accepts", out, strlen(slash ? slash + 1 : out), most);
+    }
     for (size_t i = 0; i < r->njobs + 2; i++) {
         const char *out = i < r->njobs ? r->jobs[i].out : (i == r->njobs ? r->o->stats_path : r->o->stats_svg);
         if (!out)
@@ -454,13 +475,19 @@ static void choose_field(run *r)
         jmf_frame fr;
         char err[1024];
         memset(&fr, 0, sizeof fr);
-        if (jmf_read_particles(f->path, &o->read, &fr, err, sizeof err) != JMF_OK)
+        double t0 = platform_now_ms();
+        if (inputs_read(&r->in, i, &o->read, &fr, err, sizeof err, NULL) != JMF_OK)
             continue; /* its own failure is reported in its turn */
+        double ms = platform_now_ms() - t0;
         jm_particles in = {fr.xyz, fr.count, 0, NULL};
         jm_field fd;
         jm_method m;
         float nb;
         jm_status s = jm_choose_field(&o->params, &in, &fd, &m, &nb);
+        /* the frame's conversion takes these particles instead of reading
+         * them again, unless --attributes all changes what it reads */
+        if (!o->attributes || strcasecmp(o->attributes, "all") != 0)
+            inputs_hold(&r->in, i, &o->read, &fr, ms);
         jmf_frame_free(&fr);
         if (s != JM_OK)
             continue;
@@ -508,7 +535,7 @@ static void print_params(const run *r)
     printf("frames at once %d, uv %s, normals %s, max memory %s; output %s%s\n", frame_jobs(r), uv_name(p.uv_mode), p.no_normals ? "no" : "yes",
            p.max_bytes ? platform_format_bytes(p.max_bytes, mem, sizeof mem) : "no limit",
            jmf_output_format_name(r->o->write.format), r->o->write.draco ? " with Draco" : "");
-    fflush(stdout);
+    stdout_check();
 }
 
 static int read_status(jmf_status s)
@@ -523,14 +550,50 @@ static void outcome_fail(outcome *oc, const char *msg, int status)
     oc->status = status;
 }
 
+/* The message (into msg) and exit status of a frame the library refused
+ * with ms; outside: its coordinates are beyond the lattice's reach. */
+static int mesh_failure(const convert_options *o, const char *path, const jm_particles *parts, jm_status ms,
+                        size_t est, int outside, char *msg, size_t len)
+{
+    if (outside) {
+        /* no memory changes that: a frame this tool cannot mesh as it is (issue 30) */
+        domain_advice(msg, len, path, &o->params, parts);
+        return EXIT_SOME_FAILED;
+    }
+    if (ms == JM_E_TOO_LARGE) {
+        /* names --cube-size when the machine itself could not hold it */
+        param_errors_too_large(msg, len, path, &o->params, parts, est, o->max_memory);
+        return EXIT_RESOURCE;
+    }
+    if (ms == JM_E_TOO_DENSE) {
+        snprintf(msg, len,
+                 "%s: %zu particles packed far closer than their radius %g: many duplicated "
+                 "particles, or -r far too large for their spacing (the neighbour search is "
+                 "bounded; see jetmesh(1), LIMITS)",
+                 path, parts->count, (double)o->params.radius);
+        return EXIT_SOME_FAILED;
+    }
+    if (ms == JM_E_NUMERIC_DOMAIN) {
+        param_errors_domain(msg, len, path, &o->params, parts);
+        return EXIT_SOME_FAILED;
+    }
+    if (ms == JM_E_INVALID_PARTICLE) {
+        snprintf(msg, len, "%s: %s (--drop-invalid skips such particles)", path, jm_status_message(ms));
+        return EXIT_SOME_FAILED;
+    }
+    snprintf(msg, len, "%s: %s", path, jm_status_message(ms));
+    return ms == JM_E_INVALID_ARGUMENT ? EXIT_SOME_FAILED : EXIT_RESOURCE;
+}
+
 /* Reads, meshes and writes one frame with ctx, staging the output (its
  * temporaries complete, not yet renamed). Prints nothing: the outcome is
  * reported in frame order by report(). shared: ctx has only a share of
  * --max-memory, so a refusal over that share asks for a retry alone. */
-static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_read_options *read,
+static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx, const jmf_read_options *read,
                           int shared, const job *jb, outcome *oc)
 {
     const seq_frame *f = jb->in;
+    const size_t fi = (size_t)(f - in->frames->items);
     char err[1024], msg[1400], b1[32];
     memset(oc, 0, sizeof *oc);
     oc->rec.index = f->index;
@@ -542,17 +605,22 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
     double t0 = platform_now_ms();
     jmf_frame fr;
     memset(&fr, 0, sizeof fr);
-    jmf_status rs = jmf_read_particles(f->path, read, &fr, err, sizeof err);
+    double held_ms = 0; /* a frame read by the field choice: that read's time */
+    jmf_status rs = inputs_read(in, fi, read, &fr, err, sizeof err, &held_ms);
     double t1 = platform_now_ms();
+    t0 -= held_ms;
     rec->ms_read = t1 - t0;
     if (rs != JMF_OK) {
         if (rs == JMF_E_LIMIT && shared) {
             oc->retry = 1;
             return;
         }
-        if (rs == JMF_E_LIMIT)
+        if (rs == JMF_E_LIMIT && o->max_memory)
             snprintf(msg, sizeof msg, "%s (over --max-memory %s: raise --max-memory)", err,
                      platform_format_bytes(o->max_memory, b1, sizeof b1));
+        else if (rs == JMF_E_UNSUPPORTED && read->format == JMF_IN_AUTO && strcmp(f->path, "-") == 0)
+            snprintf(msg, sizeof msg, "%s (standard input has no name to tell its format by: give "
+                     "--input-format)", err);
         else
             snprintf(msg, sizeof msg, "%s", err);
         rec->ms_total = rec->ms_read;
@@ -569,37 +637,16 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
     jm_status ms = jm_mesh_particles(ctx, &parts, &mesh, st);
     double t2 = platform_now_ms();
     if (ms != JM_OK) {
-        int status = EXIT_RESOURCE;
         /* the library's own estimate, the one it refused on */
         size_t est = st->estimated_bytes;
         if (ms == JM_E_TOO_LARGE && !est) jm_estimate_bytes(ctx, &parts, &est);
-        if (shared && (ms == JM_E_TOO_LARGE || ms == JM_E_OUT_OF_MEMORY)) {
+        int outside = ms == JM_E_TOO_LARGE && domain_outside(&o->params, &parts);
+        if (shared && !outside && (ms == JM_E_TOO_LARGE || ms == JM_E_OUT_OF_MEMORY)) {
             jmf_frame_free(&fr);
             oc->retry = 1;
             return;
         }
-        if (ms == JM_E_TOO_LARGE)
-            /* names --cube-size when the machine itself could not hold it */
-            param_errors_too_large(msg, sizeof msg, f->path, &o->params, &parts, est, o->max_memory);
-        else if (ms == JM_E_TOO_DENSE) {
-            snprintf(msg, sizeof msg,
-                     "%s: %zu particles packed far closer than their radius %g: many duplicated "
-                     "particles, or -r far too large for their spacing (the neighbour search is "
-                     "bounded; see jetmesh(1), LIMITS)",
-                     f->path, fr.count, (double)o->params.radius);
-            status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_NUMERIC_DOMAIN) {
-            param_errors_domain(msg, sizeof msg, f->path, &o->params, &parts);
-            status = EXIT_SOME_FAILED;
-        } else if (ms == JM_E_INVALID_PARTICLE) {
-            snprintf(msg, sizeof msg, "%s: %s (--drop-invalid skips such particles)", f->path,
-                     jm_status_message(ms));
-            status = EXIT_SOME_FAILED;
-        } else {
-            snprintf(msg, sizeof msg, "%s: %s", f->path, jm_status_message(ms));
-            if (ms == JM_E_INVALID_ARGUMENT)
-                status = EXIT_SOME_FAILED;
-        }
+        int status = mesh_failure(o, f->path, &parts, ms, est, outside, msg, sizeof msg);
         jmf_frame_free(&fr);
         rec->ms_field = st->ms_prepare + st->ms_field;
         rec->ms_total = t2 - t0;
@@ -742,7 +789,7 @@ static int report(run *r, const job *jb, outcome *oc)
             printf(": skipped, ");
             print_path(stdout, rec->output);
             printf(" exists (--resume)\n");
-            fflush(stdout);
+            stdout_check();
         }
         return 0;
     }
@@ -757,6 +804,8 @@ static int report(run *r, const job *jb, outcome *oc)
     }
     if (rec->particles > 0 && rec->triangles == 0 && r->empty++ == 0)
         param_errors_warn_empty(rec->index, rec->input, rec->particles, &o->params);
+    if (rec->particles == 0 && r->no_particles++ == 0)
+        param_errors_warn_no_particles(rec->index, rec->input, rec->dropped);
     if (!o->quiet) {
         const jm_stats *st = &oc->st;
         progress_clear(&r->bar);
@@ -778,7 +827,7 @@ static int report(run *r, const job *jb, outcome *oc)
                    platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), rec->bytes);
         if (o->verbose && st->ms_post > 0.0)
             printf("  post-processing (smoothing, simplification) %.2f ms\n", st->ms_post);
-        fflush(stdout);
+        stdout_check();
     }
     return 0;
 }
@@ -817,7 +866,7 @@ static int frame_jobs(const run *r)
 static int farm_job(void *user, int w, size_t i)
 {
     run *r = user;
-    convert_frame(r->o, r->wctx[w], &r->wread, 1, &r->jobs[i], &r->oc[i]);
+    convert_frame(r->o, &r->in, r->wctx[w], &r->wread, 1, &r->jobs[i], &r->oc[i]);
     r->oc[i].done = 1;
     return r->oc[i].retry; /* a frame over its share stops the farm: done alone later */
 }
@@ -910,8 +959,9 @@ static void convert_all(run *r)
             oc->retry = 0;
         }
         if (!oc->done || oc->retry)
-            convert_frame(r->o, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
+            convert_frame(r->o, &r->in, r->ctx, &r->o->read, 0, &r->jobs[i], oc);
         int ok = report(r, &r->jobs[i], oc) == 0;
+        inputs_release(&r->in, (size_t)(r->jobs[i].in - r->frames.items));
         if (fm)
             farm_taken(fm, i);
         progress_update(&r->bar, i + 1);
@@ -953,7 +1003,7 @@ static void write_reports(run *r, double wall_ms)
                "field %s, method %s (%s)\n",
                sum.ok, r->njobs, sum.failed, sum.skipped, sum.wall_seconds, sum.frames_per_second,
                sum.field, sum.method, sum.field_choice);
-        fflush(stdout);
+        stdout_check();
     }
 }
 
@@ -962,6 +1012,8 @@ static void list_failures(const run *r)
     if (r->empty > 1)
         fprintf(stderr, "jetmesh: warning: %zu frames with particles gave empty meshes (see the first above)\n",
                 r->empty);
+    if (r->no_particles > 1)
+        fprintf(stderr, "jetmesh: warning: %zu frames had no particles (see the first above)\n", r->no_particles);
     if (r->failed == 0)
         return;
     if (r->anim_full) {
@@ -1009,7 +1061,7 @@ static void finish_animation(run *r)
     }
     if (!r->o->quiet) {
         printf("animated %zu frames at %g fps -> %s (%zu bytes)\n", r->njobs, r->o->fps, r->o->output, bytes);
-        fflush(stdout);
+        stdout_check();
     }
 }
 
@@ -1052,6 +1104,7 @@ static void run_free(run *r)
     for (size_t i = 0; i < r->njobs; i++)
         free(r->jobs[i].out);
     free(r->jobs);
+    inputs_free(&r->in);
     seq_list_free(&r->frames);
     stats_free(&r->log);
     jm_context_free(r->ctx);
@@ -1094,11 +1147,16 @@ int cmd_convert(int argc, char **argv)
                                  r.frames.count, SEQ_MAX_FRAMES);
         goto done;
     }
+    if (inputs_init(&r.in, &r.frames, o.max_memory) != 0) {
+        fprintf(stderr, "jetmesh convert: out of memory\n");
+        rc = EXIT_RESOURCE;
+        goto done;
+    }
     if ((rc = plan_outputs(&r)) != EXIT_ALL_OK ||
         (rc = o.animate ? animate_check_output(&r) : check_outputs(&r)) != EXIT_ALL_OK)
         goto done;
     choose_field(&r);
-    if ((rc = vattrs_resolve_all(o.attributes, &o.read, &r.frames, &o.attributes_all)) != EXIT_ALL_OK)
+    if ((rc = vattrs_resolve_all(o.attributes, &o.read, &r.in, &o.attributes_all)) != EXIT_ALL_OK)
         goto done;
     if (o.attributes_all)
         o.read.attributes = o.attributes_all;

@@ -9,6 +9,7 @@
 #include "generate.h"
 #include "options.h"
 #include "stats/stats_merge.h"
+#include "stdout_check.h"
 
 static void usage(FILE *f)
 {
@@ -55,7 +56,7 @@ static int help(const char *cmd)
     return 0;
 }
 
-int main(int argc, char **argv)
+static int run_command(int argc, char **argv)
 {
     if (argc < 2) {
         fprintf(stderr, "jetmesh: no command: give convert, generate, bench or help\n"
@@ -83,4 +84,9 @@ int main(int argc, char **argv)
         return cmd_stats(argc - 1, argv + 1);
     fprintf(stderr, "jetmesh: unknown command '%s'\nTry 'jetmesh --help' for more information.\n", cmd);
     return 2;
+}
+
+int main(int argc, char **argv)
+{
+    return stdout_finish(run_command(argc, argv));
 }

@@ -7,6 +7,7 @@
 #include <getopt.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -67,7 +68,8 @@ void options_convert_help(FILE *f)
         "Meshes particle frames into triangle meshes, one output per input frame.\n"
         "\n"
         "Inputs: files, or patterns: frame_{}.vtk (existing files whose {} part is\n"
-        "digits, in numeric order) or frame_%04d.vtk (with --frames: exactly that range).\n"
+        "digits, in numeric order) or frame_%04d.vtk (with --frames: exactly that range);\n"
+        "- is standard input (CSV or XYZ there need --input-format).\n"
         "OUTPUT: a file (one frame), a template with {} or %04d (the frame number), or\n"
         "a directory (several frames: DIR/<input name>.<ext>, ext from --format, else glb).\n"
         "\n"
@@ -84,7 +86,8 @@ void options_convert_help(FILE *f)
         "      --link-distance L       metasphere neck link distance, relative to R (default pi)\n"
         "  -j, --threads N             worker threads; 0 = all cores (default 0)\n"
         "      --uv box|planar|spherical|none  texture coordinates (default box)\n"
-        "      --uv-scale S            world units per texture repeat (default 16 R)\n"
+        "      --uv-scale S            world units per texture repeat (default 16 R;\n"
+        "                              at least 1e-6 R)\n"
         "      --no-normals            write no normals\n"
         "      --no-templates          mesh isolated particles through the lattice too\n"
         "      --uv-axis x|y|z         --uv planar: the projection axis (default z)\n"
@@ -128,7 +131,7 @@ void options_convert_help(FILE *f)
         "                              one file per frame, which Blender streams: see\n"
         "                              jetmesh --blender-script)\n"
         "      --fps F                 frames per second of --animate and of the .pvd\n"
-        "                              times (default 24)\n"
+        "                              times, 0.001 to 100000 (default 24)\n"
         "      --pvd                   VTK/PLY sequences: a ParaView collection NAME.pvd\n"
         "                              beside the frames (time -> file)\n"
         "      --time-step DT          .pvd time per frame number (default 1/fps)\n"
@@ -262,13 +265,22 @@ static int getopt_problem(const char *cmd, int c, char **argv)
     return options_usage_error(cmd, "unknown option '%s'", arg);
 }
 
-static int positive(const char *cmd, const char *name, const char *arg, float *out)
+/* The smallest length an option takes: a normal float (0 would mean "the
+ * default"; subnormals lose their digits), as jetmesh(1) LIMITS says. */
+#define LEN_MIN 1.2e-38
+/* --fps: the frame numbers (up to 18 digits) over it stay finite floats */
+#define FPS_MIN 0.001
+#define LEN_MAX 1e30
+
+/* A length: a normal float up to LEN_MAX, else a usage error naming the
+ * option's range (issue 30: every numeric option's message names what it
+ * accepts); the library checks the rest of that range (jm_params_check,
+ * worded by param_errors_describe). */
+static int length(const char *cmd, const char *name, const char *arg, const char *range, float *out)
 {
     double v;
-    if (cli_parse_double(arg, &v) != 0 || !(v > 0) || v > 1e30)
-        return options_usage_error(cmd, "%s must be a number above 0, not '%s'", name, arg);
-    if ((float)v < FLT_MIN) /* 0 would mean "the default"; subnormals lose their digits */
-        return options_usage_error(cmd, "%s %s is too small: the smallest is %g", name, arg, (double)FLT_MIN);
+    if (cli_parse_double(arg, &v) != 0 || !(v >= LEN_MIN) || !(v <= LEN_MAX))
+        return options_usage_error(cmd, "%s must be a number from %s, not '%s'", name, range, arg);
     *out = (float)v;
     return OPTIONS_RUN;
 }
@@ -299,10 +311,10 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         int k;
         switch (c) {
         case 'r':
-            rc = positive(cmd, "--radius", optarg, &o->params.radius);
+            rc = length(cmd, "--radius", optarg, "1.2e-38 to 1e+30", &o->params.radius);
             radius_given = 1;
             break;
-        case 'c': rc = positive(cmd, "--cube-size", optarg, &o->params.cube_size); break;
+        case 'c': rc = length(cmd, "--cube-size", optarg, "0.001 to 100 (times R)", &o->params.cube_size); break;
         case O_FIELD:
             o->field_auto = 0;
             if (strcmp(optarg, "metasphere") == 0)
@@ -324,16 +336,19 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
                 rc = options_usage_error(cmd, "--method is mt or mc, not '%s'", optarg);
             break;
         case O_THRESHOLD:
-            if (cli_parse_double(optarg, &d) != 0)
-                rc = options_usage_error(cmd, "--threshold must be a number, not '%s'", optarg);
-            if (d != 0.0 && fabs(d) < FLT_MIN)
-                rc = options_usage_error(cmd, "--threshold %s is too small: 0 or at least %g in size", optarg,
-                                         (double)FLT_MIN);
+            if (cli_parse_double(optarg, &d) != 0 || (d != 0.0 && fabs(d) < LEN_MIN))
+                rc = options_usage_error(cmd, "--threshold must be a number above -1 and below 1 for the "
+                                         "metasphere, above 0 for sph (0: the field's default; else at least "
+                                         "%g in size), not '%s'", LEN_MIN, optarg);
             o->params.threshold = (float)d;
             o->threshold_given = 1;
             break;
-        case O_SMOOTH: rc = positive(cmd, "--smoothing-length", optarg, &o->params.smoothing_length); break;
-        case O_LINK: rc = positive(cmd, "--link-distance", optarg, &o->params.link_distance); break;
+        case O_SMOOTH:
+            rc = length(cmd, "--smoothing-length", optarg, "0.05 to 100 (times R)", &o->params.smoothing_length);
+            break;
+        case O_LINK:
+            rc = length(cmd, "--link-distance", optarg, "1.2e-38 to 1e+30 (times R)", &o->params.link_distance);
+            break;
         case 'j':
             if (cli_parse_long(optarg, 0, 4096, &l) != 0)
                 rc = options_usage_error(cmd, "--threads must be a whole number from 0 to 4096, not '%s'",
@@ -352,7 +367,9 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
             else
                 rc = options_usage_error(cmd, "--uv is box, planar, spherical or none, not '%s'", optarg);
             break;
-        case O_UVSCALE: rc = positive(cmd, "--uv-scale", optarg, &o->params.uv_scale); break;
+        case O_UVSCALE:
+            rc = length(cmd, "--uv-scale", optarg, "1e-06 R to 1e+30 (world units)", &o->params.uv_scale);
+            break;
         case O_NONORMALS: o->params.no_normals = 1; break;
         case O_NOTEMPLATES: o->params.no_templates = 1; break;
         case O_NOCOMP: o->params.no_compensation = 1; break;
@@ -441,11 +458,14 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         }
         case O_MAXMEM:
             if (options_parse_size(optarg, &o->max_memory) != 0)
-                rc = options_usage_error(cmd, "--max-memory must be a size like 2G or 500M, not '%s'",
-                                         optarg);
+                rc = options_usage_error(cmd, "--max-memory must be a size of 0 (no limit) or more, like 2G or "
+                                         "500M (K, M, G, T: powers of 1024), not '%s'", optarg);
             break;
         case O_ANISO: o->params.anisotropic = 1; break;
-        case O_ANISO_RADIUS: rc = positive(cmd, "--anisotropic-radius", optarg, &o->params.aniso_radius); break;
+        case O_ANISO_RADIUS:
+            rc = length(cmd, "--anisotropic-radius", optarg,
+                        "0.1 to 4 times --smoothing-length (times R; 8 at the defaults)", &o->params.aniso_radius);
+            break;
         case 'q': o->quiet = 1; o->verbose = 0; break;
         case 'v': o->verbose = 1; o->quiet = 0; break;
         case O_HELP: options_convert_help(stdout); return OPTIONS_DONE;
@@ -453,13 +473,15 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         /* sequences for Blender, ParaView and the web */
         case O_ANIMATE: o->animate = 1; break;
         case O_FPS:
-            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 100000)
-                rc = options_usage_error(cmd, "--fps must be a number above 0, not '%s'", optarg);
+            /* key times (frame number / fps) stay finite floats */
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= FPS_MIN) || d > 100000)
+                rc = options_usage_error(cmd, "--fps must be a number from %g to 100000, not '%s'", FPS_MIN,
+                                         optarg);
             o->fps = d;
             break;
         case O_TIMESTEP:
-            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
-                rc = options_usage_error(cmd, "--time-step must be a number above 0, not '%s'", optarg);
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= 1e-30) || d > 1e30)
+                rc = options_usage_error(cmd, "--time-step must be a number from 1e-30 to 1e+30, not '%s'", optarg);
             o->time_step = d;
             break;
         case O_PVD: o->pvd = 1; break;
@@ -534,8 +556,9 @@ int options_parse_generate(int argc, char **argv, generate_options *o)
         switch (c) {
         case 'o': o->output = optarg; break;
         case 'r':
-            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
-                rc = options_usage_error(cmd, "--radius must be a number above 0, not '%s'", optarg);
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= LEN_MIN) || d > LEN_MAX)
+                rc = options_usage_error(cmd, "--radius must be a number from %g to %g, not '%s'", LEN_MIN, LEN_MAX,
+                                         optarg);
             o->radius = d;
             break;
         case O_SEED: {
@@ -543,7 +566,8 @@ int options_parse_generate(int argc, char **argv, generate_options *o)
             errno = 0;
             unsigned long long s = strtoull(optarg, &end, 10);
             if (!*optarg || *end || errno || optarg[0] == '-')
-                rc = options_usage_error(cmd, "--seed must be a whole number, not '%s'", optarg);
+                rc = options_usage_error(cmd, "--seed must be a whole number from 0 to %llu, not '%s'",
+                                         (unsigned long long)UINT64_MAX, optarg);
             o->seed = (uint64_t)s;
             break;
         }

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "domain_advice.h"
 #include "platform.h"
 
 static const struct {
@@ -165,11 +166,7 @@ void param_errors_domain(char *msg, size_t len, const char *path, const jm_param
     }
     double cube = cube_in_force(p) * (double)p->radius;
     if (far > JM_MAX_CUBES_FROM_ORIGIN * cube)
-        snprintf(msg, len,
-                 "%s: outside the numeric domain: a coordinate %g lies %.3g cube edges (--cube-size %g * -r %g) "
-                 "from the origin, over the %.0f that float precision allows: move the particles nearer the "
-                 "origin (subtract their centre) or use a larger --cube-size (see jetmesh(1), LIMITS)",
-                 path, far, far / cube, cube_in_force(p), (double)p->radius, JM_MAX_CUBES_FROM_ORIGIN);
+        domain_advice(msg, len, path, p, parts);
     else
         snprintf(msg, len,
                  "%s: outside the numeric domain: with -r %g and coordinates up to %g the mesh would reach "
@@ -189,4 +186,18 @@ void param_errors_warn_empty(long index, const char *path, size_t particles, con
             index, path, particles, t, sph ? "sph: about 1 inside bulk fluid, less in thin sheets"
                                            : "metasphere: 1 at a particle's centre",
             sph ? "0.6" : "0", cube_in_force(p));
+}
+
+void param_errors_warn_no_particles(long index, const char *path, size_t dropped)
+{
+    if (dropped)
+        fprintf(stderr,
+                "jetmesh: warning: frame %ld (%s): all %zu particles were dropped (--drop-invalid): its mesh is "
+                "empty\n",
+                index, path, dropped);
+    else
+        fprintf(stderr,
+                "jetmesh: warning: frame %ld (%s): the file holds no particles (a CSV with only its header, a "
+                "VTU without a <Piece>, a count of 0): its mesh is empty\n",
+                index, path);
 }

@@ -32,4 +32,9 @@ void param_errors_domain(char *msg, size_t len, const char *path, const jm_param
  *  the threshold and cube size to look at. */
 void param_errors_warn_empty(long index, const char *path, size_t particles, const jm_params *p);
 
+/** Prints a warning on stderr for a frame converted with no particles at
+ *  all (issue 30: such a frame is converted, to an empty mesh, but says so):
+ *  the file held none, or --drop-invalid dropped every one. */
+void param_errors_warn_no_particles(long index, const char *path, size_t dropped);
+
 #endif

@@ -75,8 +75,8 @@ int seq_range_parse(const char *text, seq_range *out, char *err, size_t errlen)
             return -1;
         }
         if (parse_long_field(p, len, &v[nf]) != 0) {
-            seq_err(err, errlen, "bad frame range '%s': expected START:END[:STEP] with whole numbers",
-                    text);
+            seq_err(err, errlen, "bad frame range '%s': expected START:END[:STEP] with whole numbers from 0 to "
+                    "999999999999999999", text);
             return -1;
         }
         nf++;

@@ -79,22 +79,43 @@ static size_t scan(char *const *names, size_t count, const char *dirpath, size_t
     return removed;
 }
 
+/* path's directory and the STEM its temporaries carry
+ * (jmf_atomic_temp_stem) when that is not its name; NULL when it is, or
+ * out of memory (*nomem) */
+static char *stem_path(const char *path, int *nomem)
+{
+    size_t dl = dir_len(path);
+    char stem[JMF_TEMP_STEM_MAX + 1];
+    size_t sl = jmf_atomic_temp_stem(path + dl, stem);
+    if (strcmp(stem, path + dl) == 0) return NULL;
+    char *p = join(path, dl, stem, sl);
+    if (!p) *nomem = 1;
+    return p;
+}
+
 size_t stale_remove(char *const *outputs, size_t n)
 {
-    /* names: the outputs and the .bin beside each .gltf (bins: those made
-     * here), sorted; dirs: their distinct directories */
-    char **names = malloc(2 * n * sizeof *names), **bins = malloc(n * sizeof *bins);
-    char **dirs = malloc(2 * n * sizeof *dirs);
-    size_t m = 0, nbins = 0, ndirs = 0, removed = 0;
-    if (!names || !bins || !dirs) goto out;
+    /* names: the outputs and the .bin beside each .gltf, and the short
+     * STEM paths of long names, whose temporaries carry those (made: those
+     * allocated here), sorted; dirs: their distinct directories */
+    char **names = malloc(4 * n * sizeof *names), **made = malloc(3 * n * sizeof *made);
+    char **dirs = malloc(4 * n * sizeof *dirs);
+    size_t m = 0, nmade = 0, ndirs = 0, removed = 0;
+    int nomem = 0;
+    if (!names || !made || !dirs) goto out;
     for (size_t i = 0; i < n; i++) {
         names[m++] = outputs[i];
         size_t len = strlen(outputs[i]);
         if (len > 5 && strcmp(outputs[i] + len - 5, ".gltf") == 0) {
             char *bin = join(outputs[i], len - 5, ".bin", 4);
             if (!bin) goto out;
-            names[m++] = bins[nbins++] = bin;
+            names[m++] = made[nmade++] = bin;
         }
+    }
+    for (size_t i = 0, full = m; i < full; i++) {
+        char *sp = stem_path(names[i], &nomem);
+        if (nomem) goto out;
+        if (sp) names[m++] = made[nmade++] = sp;
     }
     qsort(names, m, sizeof *names, cmp_str);
     for (size_t i = 0; i < m; i++) {
@@ -107,9 +128,9 @@ size_t stale_remove(char *const *outputs, size_t n)
         if (i == 0 || strcmp(dirs[i], dirs[i - 1]) != 0) removed += scan(names, m, dirs[i], strlen(dirs[i]));
 out:
     for (size_t i = 0; i < ndirs; i++) free(dirs[i]);
-    for (size_t i = 0; i < nbins; i++) free(bins[i]);
+    for (size_t i = 0; i < nmade; i++) free(made[i]);
     free(dirs);
-    free(bins);
+    free(made);
     free(names);
     return removed;
 }

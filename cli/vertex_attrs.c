@@ -8,8 +8,9 @@
 
 #include "convert.h"
 
-int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, const seq_list *frames, char **out)
+int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, inputs *in, char **out)
 {
+    const seq_list *frames = in->frames;
     *out = NULL;
     if (!attributes || strcasecmp(attributes, "all") != 0)
         return EXIT_ALL_OK;
@@ -18,7 +19,7 @@ int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, con
         jmf_frame fr;
         char err[1024];
         o.attributes = "all";
-        if (jmf_read_particles(frames->items[i].path, &o, &fr, err, sizeof err) != JMF_OK)
+        if (inputs_read(in, i, &o, &fr, err, sizeof err, NULL) != JMF_OK)
             continue; /* it fails in its turn */
         size_t len = 1;
         for (size_t k = 0; k < fr.attribute_count; k++)

@@ -6,15 +6,14 @@
 
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
-#include "sequence.h"
+#include "inputs.h"
 
 /** --attributes all: the arrays of the first frame that reads, as a list
  *  ("velocity,density") the whole run then asks every frame for (a later
  *  frame without one of them fails, naming the file and the attribute).
  *  *out (malloc'd) is NULL when the option was not "all". 0 on success;
  *  else prints why and returns the exit status. */
-int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, const seq_list *frames,
-                       char **out);
+int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, inputs *frames, char **out);
 
 /** The frame's attributes interpolated to mesh's vertices
  *  (jm_interpolate_attributes), named as in the file with any character

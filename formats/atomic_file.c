@@ -33,13 +33,19 @@
  * temporary over a device node would replace the device, which is never
  * what the user meant. Such a write is not atomic, but errors are still
  * reported. A symbolic link is followed: the file it points to is replaced
- * and the link kept.
+ * and the link kept; a dangling one alike, its target created (as a
+ * shell's redirection does; issue 30: it was replaced by a file while a
+ * live one was written through); a loop of links is an error.
  *
  * Names: "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND", HOST this machine's name
  * (letters, digits, '.', '_' and '-' kept, others as '_', at most 64),
  * RAND 8 hex digits drawn once per process: shards on different hosts
  * sharing a network file system never collide, and a later run on the same
- * host can tell a dead process's leftovers (cli/stale.c).
+ * host can tell a dead process's leftovers (cli/stale.c). NAME is the
+ * output's name up to JMF_TEMP_STEM_MAX bytes; a longer one is cut to its
+ * first bytes and "~" and a hash of the whole (jmf_atomic_temp_stem), so
+ * the temporary's name stays within the 255 bytes file systems allow
+ * whatever the output's (issue 30: a 225-byte output name failed).
  */
 static pthread_mutex_t g_lock = PTHREAD_MUTEX_INITIALIZER;
 static char **g_pending;    /* temporaries on disk, registered */
@@ -179,21 +185,77 @@ int jmf_atomic_temp_parse(const char *name, jmf_temp_name *out)
     return 1;
 }
 
-/* "DIR/NAME" -> "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND"; NULL on allocation failure. */
+/* the bytes of a long name kept before its hash */
+#define TEMP_STEM_KEEP 100
+
+size_t jmf_atomic_temp_stem(const char *name, char *out)
+{
+    size_t n = strlen(name);
+    if (n <= JMF_TEMP_STEM_MAX) {
+        memcpy(out, name, n + 1);
+        return n;
+    }
+    /* FNV-1a, 64 bits, of the whole name */
+    uint64_t h = 14695981039346656037ull;
+    for (size_t i = 0; i < n; i++) h = (h ^ (unsigned char)name[i]) * 1099511628211ull;
+    size_t keep = TEMP_STEM_KEEP;
+    while (keep > 0 && ((unsigned char)name[keep] & 0xc0) == 0x80) keep--; /* not inside a UTF-8 character */
+    memcpy(out, name, keep);
+    return keep + (size_t)snprintf(out + keep, JMF_TEMP_STEM_MAX + 1 - keep, "~%016llx", (unsigned long long)h);
+}
+
+/* "DIR/NAME" -> "DIR/.STEM.jetmesh-tmp-HOST-PID-RAND"; NULL on allocation failure. */
 static char *temp_name_for(const char *path)
 {
     jmf_atomic_host();
     const char *slash = strrchr(path, '/');
     size_t dirlen = slash ? (size_t)(slash - path) + 1 : 0;
-    const char *name = path + dirlen;
+    char stem[JMF_TEMP_STEM_MAX + 1];
+    jmf_atomic_temp_stem(path + dirlen, stem);
     char suffix[128];
     int sn = snprintf(suffix, sizeof suffix, "%s-%ld-%s", g_host, (long)getpid(), g_rand);
-    size_t len = dirlen + 1 + strlen(name) + strlen(TEMP_TAG) + (size_t)sn + 1;
+    size_t len = dirlen + 1 + strlen(stem) + strlen(TEMP_TAG) + (size_t)sn + 1;
     char *t = malloc(len);
     if (!t) return NULL;
     memcpy(t, path, dirlen);
-    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", name, suffix);
+    snprintf(t + dirlen, len - dirlen, ".%s" TEMP_TAG "%s", stem, suffix);
     return t;
+}
+
+/* The missing file at the end of a chain of symbolic links from path (a
+ * dangling link's target; a relative link is relative to its directory);
+ * NULL when the chain loops, ends in an existing file, or cannot be read
+ * (errno says why: ELOOP for a loop). */
+static char *dangling_target(const char *path)
+{
+    char *cur = dup_str(path);
+    for (int hops = 0; cur && hops < 40; hops++) {
+        struct stat st;
+        if (lstat(cur, &st) != 0) {
+            if (errno == ENOENT) return cur;
+            break;
+        }
+        if (!S_ISLNK(st.st_mode)) {
+            errno = EEXIST;
+            break;
+        }
+        char to[4096];
+        ssize_t n = readlink(cur, to, sizeof to - 1);
+        if (n < 0) break;
+        to[n] = '\0';
+        const char *slash = strrchr(cur, '/');
+        size_t dl = to[0] == '/' || !slash ? 0 : (size_t)(slash - cur) + 1;
+        char *next = malloc(dl + (size_t)n + 1);
+        if (next) {
+            memcpy(next, cur, dl);
+            memcpy(next + dl, to, (size_t)n + 1);
+        }
+        free(cur);
+        cur = next;
+        errno = ELOOP;
+    }
+    free(cur);
+    return NULL;
 }
 
 static void release(jmf_atomic_file *af)
@@ -238,7 +300,11 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
     if (lstat(path, &st) == 0) {
         if (S_ISLNK(st.st_mode)) {
             char *real = realpath(path, NULL); /* NULL for a dangling link */
-            if (real) target = real;
+            target = real ? real : dangling_target(path);
+            if (!target) {
+                set_err(err, errlen, "%s: a symbolic link that cannot be followed: %s", path, strerror(errno));
+                return JMF_E_IO;
+            }
         }
         if (stat(target ? target : path, &st) == 0) {
             exists = 1;
@@ -249,7 +315,10 @@ jmf_status jmf_atomic_open(jmf_atomic_file *af, const char *path, char *err, siz
             }
             keep_mode = st.st_mode & 07777;
         }
-    } else if (errno != ENOENT) {
+    } else if (errno != ENOENT && errno != ENAMETOOLONG) {
+        /* a name too long for the file system cannot exist: its temporary's
+         * is short, and a rename into place says so (a scratch file that is
+         * never renamed, "NAME.glb.frames", works) */
         set_err(err, errlen, "%s: %s", path, strerror(errno));
         return JMF_E_IO;
     }

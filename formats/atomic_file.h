@@ -11,7 +11,9 @@ extern "C" {
 #endif
 
 /** An output being written. The temporary is
- *  "DIR/.NAME.jetmesh-tmp-HOST-PID-RAND" (see jmf_atomic_temp_parse). */
+ *  "DIR/.STEM.jetmesh-tmp-HOST-PID-RAND" (see jmf_atomic_temp_parse), STEM
+ *  the output's name or, past JMF_TEMP_STEM_MAX bytes, a short form of it
+ *  (jmf_atomic_temp_stem). */
 typedef struct jmf_atomic_file {
     FILE *fp;          /**< write to this */
     char *final_path;
@@ -62,9 +64,20 @@ jmf_status jmf_atomic_write(jmf_atomic_file *af, const void *data, size_t n,
 /** Closes and removes the temporary; the final path is untouched. */
 void jmf_atomic_abort(jmf_atomic_file *af);
 
+/** The longest STEM of a temporary's name: with the rest (at most 98
+ *  bytes) it stays within the 255 bytes file systems allow a name. */
+#define JMF_TEMP_STEM_MAX 120
+
+/** The STEM of the temporaries of an output named name (no directory):
+ *  the name itself up to JMF_TEMP_STEM_MAX bytes, else its first 100 bytes
+ *  (whole UTF-8 characters), '~' and 16 hex digits of a 64-bit hash of the
+ *  whole name. out has room for JMF_TEMP_STEM_MAX + 1 bytes; returns the
+ *  length. */
+size_t jmf_atomic_temp_stem(const char *name, char *out);
+
 /** A temporary's name, parsed. */
 typedef struct jmf_temp_name {
-    size_t name_len;  /**< NAME is the name_len bytes after the leading '.' */
+    size_t name_len;  /**< STEM (or NAME) is the name_len bytes after the leading '.' */
     long pid;         /**< the process that wrote it */
     const char *host; /**< HOST, host_len bytes into the parsed name; NULL
                            for the form before 0.4, ".NAME.jetmesh-tmp-PID",
@@ -73,7 +86,7 @@ typedef struct jmf_temp_name {
 } jmf_temp_name;
 
 /** 1 if name (a directory entry) is a temporary of this writer,
- *  ".NAME.jetmesh-tmp-HOST-PID-RAND" (or the older ".NAME.jetmesh-tmp-PID"),
+ *  ".STEM.jetmesh-tmp-HOST-PID-RAND" (or the older ".NAME.jetmesh-tmp-PID"),
  *  filling *out; 0 otherwise. */
 int jmf_atomic_temp_parse(const char *name, jmf_temp_name *out);
 

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 static const char *const format_names[] = { "auto", "csv", "xyz", "vtk", "vtu", "bgeo", "ply" };
@@ -267,8 +268,13 @@ jmf_status jmf_read_particles_mem(const void *data, size_t size, const char *nam
 
 /* ---- files ---- */
 
-jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf_frame *out,
-                              char *err, size_t errlen)
+const char *jmf_input_name(const char *path)
+{
+    return path && strcmp(path, "-") == 0 ? JMF_STDIN_NAME : path;
+}
+
+jmf_status jmf_read_input(const char *path, const jmf_read_options *opt, void **out, size_t *out_size, char *err,
+                          size_t errlen)
 {
     static const jmf_read_options defaults = { JMF_IN_AUTO, 0, 0, NULL };
     jmr_ctx ctx;
@@ -276,21 +282,28 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
     FILE *fp;
     uint8_t *buf = NULL;
     size_t cap = 0, len = 0, limit;
-    jmf_status st;
+    int is_stdin = path && strcmp(path, "-") == 0;
 
     if (err && errlen) err[0] = '\0';
-    if (out) memset(out, 0, sizeof *out);
-    ctx.name = path ? path : "<null>";
+    if (out) *out = NULL;
+    if (out_size) *out_size = 0;
+    ctx.name = path ? jmf_input_name(path) : "<null>";
     ctx.opt = opt ? opt : &defaults;
     ctx.err = err;
     ctx.errlen = errlen;
     ctx.gunzipped = 0;
-    if (!out) return JMF_E_IO;
+    if (!out || !out_size) return JMF_E_IO;
     if (!path || !*path) return jmr_fail(&ctx, JMF_E_IO, jmr_nowhere(), "no file name given");
     /* also bounds endless non-regular files (/dev/zero) when max_bytes is 0 */
     limit = jmr_max_decoded(&ctx);
 
-    fp = fopen(path, "rb");
+    if (is_stdin) {
+        int fd = dup(0);
+        fp = fd >= 0 ? fdopen(fd, "rb") : NULL;
+        if (!fp && fd >= 0) close(fd);
+    } else {
+        fp = fopen(path, "rb");
+    }
     if (!fp) return jmr_fail(&ctx, JMF_E_IO, jmr_nowhere(), "cannot open: %s", strerror(errno));
     if (fstat(fileno(fp), &sb) != 0) {
         int e = errno;
@@ -301,7 +314,7 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
         fclose(fp);
         return jmr_fail(&ctx, JMF_E_IO, jmr_nowhere(), "is a directory, expected a particle file");
     }
-    if (S_ISREG(sb.st_mode) && sb.st_size > 0) {
+    if (S_ISREG(sb.st_mode) && sb.st_size > 0 && !is_stdin) {
         if ((uint64_t)sb.st_size > limit) {
             fclose(fp);
             return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file of %lld bytes exceeds the limit of %zu bytes%s",
@@ -355,7 +368,25 @@ jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf
         return jmr_fail(&ctx, JMF_E_LIMIT, jmr_nowhere(), "file exceeds the limit of %zu bytes%s", limit,
                         ctx.opt->max_bytes ? " (max_bytes)" : " (built-in cap when max_bytes is 0)");
     }
-    st = jmf_read_particles_mem(buf, len, path, ctx.opt, out, err, errlen);
+    *out = buf;
+    *out_size = len;
+    return JMF_OK;
+}
+
+jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt, jmf_frame *out,
+                              char *err, size_t errlen)
+{
+    void *buf = NULL;
+    size_t len = 0;
+    jmf_status st;
+    if (out) memset(out, 0, sizeof *out);
+    if (!out) {
+        if (err && errlen) err[0] = '\0';
+        return JMF_E_IO;
+    }
+    st = jmf_read_input(path, opt, &buf, &len, err, errlen);
+    if (st) return st;
+    st = jmf_read_particles_mem(buf, len, jmf_input_name(path), opt, out, err, errlen);
     free(buf);
     return st;
 }

@@ -42,6 +42,12 @@ typedef struct jmf_read_options {
                                   jmf_attribute. */
 } jmf_read_options;
 
+/** The most components, all the attributes of a frame together, that a
+ *  read keeps (what jm_interpolate_attributes carries in one call): an
+ *  attribute beyond them is refused (JMF_E_UNSUPPORTED) where the file
+ *  declares it, before any value is read. */
+#define JMF_MAX_ATTRIBUTE_COMPONENTS 64
+
 /**
  * One per-particle array of a frame (jmf_read_options.attributes), e.g.
  * "velocity" with 3 components. Where they come from: VTK point-data
@@ -49,7 +55,8 @@ typedef struct jmf_read_options {
  * point attributes (float/int/vector), PLY vertex properties and CSV columns.
  * In PLY and CSV, properties NAME_x NAME_y NAME_z (also .x or x/y/z after
  * the name) make one 3-component NAME, and vx vy vz make "velocity". 1 to 4
- * components. A named attribute the file lacks, one whose length differs
+ * components each, at most JMF_MAX_ATTRIBUTE_COMPONENTS in all. A named
+ * attribute the file lacks, one whose length differs
  * from the particle count, and a non-finite value are errors naming the
  * file and the attribute (drop_invalid drops the particle instead of the
  * last).
@@ -76,13 +83,32 @@ typedef struct jmf_frame {
 } jmf_frame;
 
 /**
- * Reads the particles of one frame from path. On failure returns non-zero,
+ * Reads the particles of one frame from path ("-": standard input, whose
+ * format comes from its magic or opt->format). On failure returns non-zero,
  * leaves *out zeroed and writes a one-line message into err (if errlen > 0)
  * that names the file and the line (text) or byte offset (binary) and what
  * was expected, e.g. "a.csv:12: expected 3 numbers, found 2".
  */
 jmf_status jmf_read_particles(const char *path, const jmf_read_options *opt,
                               jmf_frame *out, char *err, size_t errlen);
+
+/** The name messages give standard input, path "-". */
+#define JMF_STDIN_NAME "<stdin>"
+
+/**
+ * The first half of jmf_read_particles: the whole input at path (standard
+ * input for "-"; a FIFO or device is read to its end) into a malloc'd
+ * buffer *out of *out_size bytes, at most opt->max_bytes (or the built-in
+ * cap) of them. For inputs that can be read only once (pipes), whose bytes
+ * a caller keeps for later parses with jmf_read_particles_mem. Errors as
+ * jmf_read_particles; *out is NULL then.
+ */
+jmf_status jmf_read_input(const char *path, const jmf_read_options *opt, void **out, size_t *out_size, char *err,
+                          size_t errlen);
+
+/** The name jmf_read_particles gives path in messages: JMF_STDIN_NAME for
+ *  "-", else path. */
+const char *jmf_input_name(const char *path);
 
 /** Same, from memory (name is only used in messages and for the extension). */
 jmf_status jmf_read_particles_mem(const void *data, size_t size, const char *name,

@@ -179,6 +179,13 @@ static inline uint64_t jm_key3(int64_t x, int64_t y, int64_t z)
     return ((uint64_t)z << (2 * JM_KEY_BITS)) | ((uint64_t)y << JM_KEY_BITS) | (uint64_t)x;
 }
 
+/* jm_choose_field (field_choice.c) with the candidate checks it made in
+ * *out_checks (may be NULL): at most JM_CHOICE_MAX_CHECKS, whatever the
+ * particles (issue 30). */
+#define JM_CHOICE_MAX_CHECKS ((size_t)1 << 24)
+jm_status jm_choose_field_work(const jm_params *params, const jm_particles *in, jm_field *out_field,
+                               jm_method *out_method, float *out_neighbours, size_t *out_checks);
+
 typedef struct jm_grid {
     size_t n;             /* particles */
     float *pos;           /* 3n, sorted by cell */

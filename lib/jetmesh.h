@@ -225,6 +225,11 @@ typedef enum jm_status {
  *  origin (subtract their centre) before meshing. */
 #define JM_MAX_CUBES_FROM_ORIGIN 65536.0
 
+/** The smallest uv_scale, relative to the radius: texture coordinates
+ *  (positions over uv_scale) then stay well within the float range for
+ *  every frame in the numeric domain. */
+#define JM_UV_SCALE_MIN 1e-6
+
 /** The bound on a frame's neighbour-search work: n particles are searched
  *  with at most max(2e9, 4000 n) pair checks, else JM_E_TOO_DENSE, decided
  *  before the search from the particles' cell counts. Bulk fluid at rest
@@ -286,7 +291,8 @@ typedef struct jm_params {
     int threads;            /**< worker threads; 0 = all cores; at most
                                  JM_MAX_THREADS (more are capped there) */
     jm_uv_mode uv_mode;     /**< default JM_UV_BOX */
-    float uv_scale;         /**< world units per texture repeat; default 16r */
+    float uv_scale;         /**< world units per texture repeat; default 16r;
+                                 else at least JM_UV_SCALE_MIN times radius */
     int uv_axis;            /**< JM_UV_PLANAR projection axis: 1 x, 2 y,
                                  3 z; default (0) z */
     int no_normals;         /**< 1: skip normals (mesh.normals = NULL) */

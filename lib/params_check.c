@@ -68,6 +68,10 @@ jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
     if (!isfinite(p->uv_scale) || p->uv_scale < 0.0f)
         return refuse(out, "uv_scale", p->uv_scale, 0, 0, HUGE_VAL, 0,
                       "a finite number from 0 (world units; 0 = the default 16 radius)");
+    if (p->uv_scale > 0.0f && p->uv_scale < (float)JM_UV_SCALE_MIN * p->radius) /* texture coordinates stay finite */
+        return refuse(out, "uv_scale", p->uv_scale, (float)JM_UV_SCALE_MIN * p->radius, 0, HUGE_VAL, 0,
+                      "0 (the default 16 radius) or 1e-06 radius and more (world units; texture coordinates "
+                      "stay finite)");
     if (p->uv_axis < 0 || p->uv_axis > 3)
         return refuse(out, "uv_axis", p->uv_axis, 0, 0, 3, 0, "0 (default z), 1 x, 2 y or 3 z");
     if (p->anisotropic < 0 || p->anisotropic > 1)

@@ -53,11 +53,13 @@ run 0 convert "$S/jet_05{}.csv" -r 0.025 --field sph --threshold 5 -q -o "$T/e_{
 grep -q "warning: frame 0 (.*jet_050.csv): 64 particles gave an empty mesh.*--threshold 5" "$T/err" || { cat "$T/err"; fail "no empty-mesh warning"; }
 [ "$(grep -c 'gave an empty mesh' "$T/err")" = 1 ] || { cat "$T/err"; fail "one detailed warning expected"; }
 grep -q "warning: 10 frames with particles gave empty meshes" "$T/err" || { cat "$T/err"; fail "no count of empty meshes"; }
-# values too small for a float became 0, which means "the default": refused
-for a in "-c 1e-50" "-r 1e-40" "--field sph --threshold 1e-50"; do
+# values too small for a float became 0, which means "the default": refused,
+# naming the range
+for a in "-c 1e-50:from 0.001 to 100" "-r 1e-40:from 1.2e-38 to 1e+30" \
+    "--field sph --threshold 1e-50:at least 1.2e-38 in size"; do
     # shellcheck disable=SC2086
-    run 2 convert "$F" -r 0.025 $a -o "$T/tiny.obj"
-    grep -q "is too small" "$T/err" || { cat "$T/err"; fail "$a: not refused as too small"; }
+    run 2 convert "$F" -r 0.025 ${a%%:*} -o "$T/tiny.obj"
+    grep -q "must be a number .*${a#*:}.*, not '" "$T/err" || { cat "$T/err"; fail "${a%%:*}: not refused with its range"; }
 done
 # no warning for a normal conversion
 run 0 convert "$F" -r 0.025 -q -o "$T/n.obj"

@@ -51,11 +51,11 @@ echo "ok: -r 1e10, 1e-25 and 1e19 mesh like -r 1"
 
 # a subnormal radius is refused as a number, before reading anything
 run 2 convert "$T/one.csv" -r 1e-40 -o "$T/t.obj"
-grep -q "is too small" "$T/err" || { cat "$T/err"; fail "-r 1e-40 not refused"; }
+grep -q "from 1.2e-38 to 1e+30, not '1e-40'" "$T/err" || { cat "$T/err"; fail "-r 1e-40 not refused"; }
 # coordinates beyond 2^16 cubes from the origin: refused with the way out
 awk -F, 'NR == 1 { print; next } { printf "%.9g,%.9g,%.9g\n", $1 + 1e4, $2, $3 }' "$S/jet_050.csv" >"$T/far.csv"
 run 1 convert "$T/far.csv" -r 0.025 -o "$T/far.obj"
-grep -q "outside the numeric domain: a coordinate .* cube edges .* from the origin, over the 65536 that float precision allows: move the particles nearer the origin" "$T/err" \
+grep -q "outside the numeric domain: the particles lie from .* the lattice reaches 819.2 from the origin (65536 cube edges .*: --cube-size 6.11 or more reaches them (a coarser mesh), or move them nearer the origin: subtract their centre" "$T/err" \
     || { cat "$T/err"; fail "far coordinates not refused with advice"; }
 [ ! -e "$T/far.obj" ] || fail "a refused frame wrote a mesh"
 # ... and they mesh once nearer (or with cubes large enough)

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "../formats/reader.h"
+#include "../lib/internal.h"
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
 #include "util/shared_data.h"
@@ -217,10 +218,68 @@ static void test_metasphere_bulk_cavities(void **state)
     free(blk);
 }
 
+/* The measure by brute force over the same samples as jm_choose_field. */
+static double brute_mean(const float *xyz, size_t n, double L)
+{
+    size_t step = n > 4096 ? n / 4096 : 1, taken = 0, total = 0;
+    for (size_t i = 0; i < n && taken < 4096; i += step, taken++)
+        for (size_t j = 0; j < n; j++) {
+            double d0 = (double)xyz[3 * j] - xyz[3 * i], d1 = (double)xyz[3 * j + 1] - xyz[3 * i + 1],
+                   d2 = (double)xyz[3 * j + 2] - xyz[3 * i + 2];
+            if (j != i && d0 * d0 + d1 * d1 + d2 * d2 < L * L) total++;
+        }
+    return taken ? (double)total / (double)taken : 0.0;
+}
+
+/* Issue 30: the choice's work is bounded whatever the particles (a million
+ * copies of one point took 10 s before the meshing refused them); frames
+ * within the bound are measured exactly, as before. */
+static void test_choice_bounded(void **state)
+{
+    (void)state;
+    jm_params p = {0};
+    p.radius = R;
+    jm_field f;
+    jm_method m;
+    float nb;
+    size_t checks;
+    /* exact within the bound: the brute-force mean, to the bit */
+    size_t n;
+    float *blk = lattice(12, 2.0f, 0.3f, &n);
+    jm_particles in = {blk, n, 0, NULL};
+    assert_int_equal(jm_choose_field_work(&p, &in, &f, &m, &nb, &checks), JM_OK);
+    const float link = 3.14159265f * R; /* the default link distance, as the library computes it */
+    assert_true(nb == (float)brute_mean(blk, n, (double)link));
+    assert_true(checks > 0 && checks <= JM_CHOICE_MAX_CHECKS);
+    free(blk);
+    /* a million copies of one point: bounded, and far denser than bulk */
+    const size_t pile = 1000000;
+    float *pts = malloc(pile * 3 * sizeof *pts);
+    assert_non_null(pts);
+    for (size_t i = 0; i < pile; i++) {
+        pts[3 * i] = 1.0f;
+        pts[3 * i + 1] = 2.0f;
+        pts[3 * i + 2] = 3.0f;
+    }
+    jm_particles pl = {pts, pile, 0, NULL};
+    assert_int_equal(jm_choose_field_work(&p, &pl, &f, &m, &nb, &checks), JM_OK);
+    assert_true(checks <= JM_CHOICE_MAX_CHECKS);
+    assert_int_equal(f, JM_FIELD_SPH);
+    assert_true(nb > 0.9f * (float)pile);
+    /* two piles 1.01 L apart in neighbouring cells: each sample's candidates
+     * are half neighbours, half not, and the strided share sees both */
+    for (size_t i = pile / 2; i < pile; i++) pts[3 * i] = 1.0f + 1.01f * 3.14159265f * R;
+    assert_int_equal(jm_choose_field_work(&p, &pl, &f, &m, &nb, &checks), JM_OK);
+    assert_true(checks <= JM_CHOICE_MAX_CHECKS);
+    assert_true(nb > 0.4f * (float)pile && nb < 0.6f * (float)pile);
+    free(pts);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_choice),
+        cmocka_unit_test(test_choice_bounded),
         cmocka_unit_test(test_real_bulk),
         cmocka_unit_test(test_metasphere_bulk_cavities),
     };

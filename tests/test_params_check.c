@@ -70,6 +70,9 @@ static void test_each_member(void **state)
     p = base(); p.threads = -2;               refused(p, "threads", 0, 2147483647.0);
     p = base(); p.uv_mode = (jm_uv_mode)9;    refused(p, "uv_mode", 0, 4);
     p = base(); p.uv_scale = -1;              refused(p, "uv_scale", 0, HUGE_VAL);
+    /* issue 30: below 1e-6 r, texture coordinates could pass the float range */
+    p = base(); p.uv_scale = 1.2e-38f;        refused(p, "uv_scale", 1e-6f * 0.025f, HUGE_VAL);
+    p = base(); p.uv_scale = 1e-6f * 0.025f;  accepted(p);
     p = base(); p.uv_axis = 4;                refused(p, "uv_axis", 0, 3);
 
     /* the range's ends and the defaults are accepted */

@@ -29,10 +29,10 @@ static char g_dir[256];
 
 static const char *in_dir(const char *name)
 {
-    static char bufs[4][512];
+    static char bufs[4][1024];
     static int next;
     char *p = bufs[next++ & 3];
-    snprintf(p, 512, "%s/%s", g_dir, name);
+    snprintf(p, 1024, "%s/%s", g_dir, name);
     return p;
 }
 
@@ -769,6 +769,65 @@ static void test_generator_stays_one_line(void **state)
     test_mesh_free(&tm);
 }
 
+/* Many attributes with long names (issue 30: PLY's header was a 1 KiB
+ * buffer, "generator name too long"; VTK's lines were cut at 512 bytes):
+ * whole headers, every property, the data after them. */
+static void test_long_attribute_names(void **state)
+{
+    (void)state;
+    enum { NA = 40, LEN = 600 };
+    char err[512];
+    test_mesh tm;
+    make("octahedron", &tm);
+    const size_t nv = tm.mesh.vertex_count, nt = tm.mesh.triangle_count;
+    jmf_attribute at[NA];
+    char *names[NA];
+    float *vals = calloc(nv, sizeof *vals);
+    assert_non_null(vals);
+    for (int a = 0; a < NA; a++) {
+        names[a] = malloc(LEN + 8);
+        assert_non_null(names[a]);
+        int k = sprintf(names[a], "n%02d_", a);
+        memset(names[a] + k, 'a', LEN - (size_t)k);
+        names[a][LEN] = '\0';
+        at[a] = (jmf_attribute){names[a], 1, vals};
+    }
+    jmf_write_options o;
+    memset(&o, 0, sizeof o);
+    o.attributes = at;
+    o.attribute_count = NA;
+    assert_int_equal(write_path(in_dir("long.ply"), &tm.mesh, &o, NULL, err), JMF_OK);
+    assert_int_equal(write_path(in_dir("long.vtk"), &tm.mesh, &o, NULL, err), JMF_OK);
+    size_t n;
+    char *d = (char *)test_read_file(in_dir("long.ply"), &n);
+    assert_non_null(d);
+    char *end = strstr(d, "end_header\n");
+    assert_non_null(end);
+    size_t head = (size_t)(end - d) + 11, props = 0;
+    for (char *p = d; p < end && (p = strstr(p, "property float ")) != NULL && p < end; p++) props++;
+    assert_int_equal(props, 3 + 3 + 2 + NA);
+    for (int a = 0; a < NA; a++) {
+        char line[LEN + 32];
+        snprintf(line, sizeof line, "property float %s\n", names[a]);
+        assert_non_null(strstr(d, line));
+    }
+    assert_int_equal(n, head + nv * 4 * (3 + 3 + 2 + NA) + nt * 13);
+    free(d);
+    d = (char *)test_read_file(in_dir("long.vtk"), &n);
+    assert_non_null(d);
+    for (int a = 0; a < NA; a++) {
+        char line[LEN + 48];
+        snprintf(line, sizeof line, "\n%s 1 %zu float\n", names[a], nv);
+        size_t k = strlen(line), i = 0;
+        while (i + k <= n && memcmp(d + i, line, k) != 0) i++;
+        assert_true(i + k <= n);
+    }
+    free(d);
+    for (int a = 0; a < NA; a++) free(names[a]);
+    free(vals);
+    test_mesh_free(&tm);
+}
+
 /* ---- atomic output ----------------------------------------------------------------------- */
 
 static void test_atomic_commit_and_names(void **state)
@@ -831,6 +890,56 @@ static void test_atomic_commit_and_names(void **state)
 /* A staged output: complete temporaries, nothing at the targets until
  * published (bytes as jmf_write_mesh writes them, the .bin before the
  * .gltf); an abort leaves the old files and no temporary. */
+/* Issue 30: an output name of up to 255 bytes works, its temporary's name
+ * cut short (the first bytes, whole UTF-8 characters, and a hash) so that
+ * it fits the file system's 255 too; short names keep the old form. */
+static void test_atomic_long_names(void **state)
+{
+    (void)state;
+    char err[512], name[256], stem[JMF_TEMP_STEM_MAX + 1];
+    memset(name, 'c', 250);
+    memcpy(name + 250, ".obj", 5);
+    jmf_atomic_file af;
+    assert_int_equal(jmf_atomic_open(&af, in_dir(name), err, sizeof err), JMF_OK);
+    const char *base = strrchr(af.temp_path, '/') + 1;
+    assert_true(strlen(base) <= 255);
+    jmf_temp_name t;
+    assert_int_equal(jmf_atomic_temp_parse(base, &t), 1);
+    assert_int_equal(t.name_len, jmf_atomic_temp_stem(name, stem));
+    assert_memory_equal(base + 1, stem, t.name_len);
+    assert_int_equal(jmf_atomic_write(&af, "x", 1, err, sizeof err), JMF_OK);
+    assert_int_equal(jmf_atomic_commit(&af, err, sizeof err), JMF_OK);
+    assert_true(file_equals(in_dir(name), "x"));
+    assert_int_equal(temp_files(), 0);
+    /* the stem: 100 bytes of the name, '~', 16 hex digits; another name,
+     * another stem; a name up to JMF_TEMP_STEM_MAX bytes is its own */
+    assert_int_equal(strlen(stem), 117);
+    assert_memory_equal(stem, name, 100);
+    assert_int_equal(stem[100], '~');
+    assert_int_equal(strspn(stem + 101, "0123456789abcdef"), 16);
+    char other[JMF_TEMP_STEM_MAX + 1];
+    name[200] = 'd';
+    jmf_atomic_temp_stem(name, other);
+    assert_memory_equal(other, stem, 101);
+    assert_true(strcmp(other, stem) != 0);
+    name[JMF_TEMP_STEM_MAX] = '\0';
+    assert_int_equal(jmf_atomic_temp_stem(name, other), JMF_TEMP_STEM_MAX);
+    assert_string_equal(other, name);
+    /* never inside a UTF-8 character: 83 euro signs (3 bytes each) keep 33 */
+    char euros[256];
+    for (int i = 0; i < 83; i++) memcpy(euros + 3 * i, "\xe2\x82\xac", 3);
+    euros[249] = '\0';
+    assert_int_equal(jmf_atomic_temp_stem(euros, other), 99 + 17);
+    assert_int_equal(other[99], '~');
+    /* a scratch file whose own name is too long (never renamed into place) */
+    char scratch[300];
+    memset(scratch, 'e', 252);
+    memcpy(scratch + 252, ".frames", 8);
+    assert_int_equal(jmf_atomic_open(&af, in_dir(scratch), err, sizeof err), JMF_OK);
+    jmf_atomic_abort(&af);
+    assert_int_equal(temp_files(), 0);
+}
+
 static void test_staged_publish_and_abort(void **state)
 {
     (void)state;
@@ -1047,6 +1156,19 @@ static void test_atomic_through_symlink(void **state)
     assert_int_equal(lstat(in_dir("link.txt"), &st), 0);
     assert_true(S_ISLNK(st.st_mode));
     assert_true(file_equals(in_dir("real.txt"), "new"));
+    /* a dangling link alike: its target is created, the link kept (issue
+     * 30: it was replaced by a file); a loop is refused */
+    assert_int_equal(symlink("made.txt", in_dir("dangling.txt")), 0);
+    assert_int_equal(jmf_atomic_open(&af, in_dir("dangling.txt"), err, sizeof err), JMF_OK);
+    assert_int_equal(jmf_atomic_write(&af, "made", 4, err, sizeof err), JMF_OK);
+    assert_int_equal(jmf_atomic_commit(&af, err, sizeof err), JMF_OK);
+    assert_int_equal(lstat(in_dir("dangling.txt"), &st), 0);
+    assert_true(S_ISLNK(st.st_mode));
+    assert_true(file_equals(in_dir("made.txt"), "made"));
+    assert_int_equal(symlink("loop.txt", in_dir("loop.txt")), 0);
+    assert_int_equal(jmf_atomic_open(&af, in_dir("loop.txt"), err, sizeof err), JMF_E_IO);
+    assert_non_null(strstr(err, "symbolic link"));
+    assert_int_equal(temp_files(), 0);
 }
 
 int main(void)
@@ -1066,7 +1188,9 @@ int main(void)
         cmocka_unit_test(test_drc),
         cmocka_unit_test(test_bad_requests),
         cmocka_unit_test(test_generator_stays_one_line),
+        cmocka_unit_test(test_long_attribute_names),
         cmocka_unit_test(test_atomic_commit_and_names),
+        cmocka_unit_test(test_atomic_long_names),
         cmocka_unit_test(test_atomic_abort_keeps_target),
         cmocka_unit_test(test_atomic_shutdown),
         cmocka_unit_test(test_atomic_refuses_directory),

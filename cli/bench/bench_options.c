@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -203,8 +204,8 @@ static int item_method(bench_opts *o, const char *opt, const char *s)
 static int item_cube(bench_opts *o, const char *opt, const char *s)
 {
     double v;
-    if (cli_parse_double(s, &v) != 0 || !(v > 0) || v > 1e6)
-        return options_usage_error(CMD, "%s must be a number above 0, not '%s'", opt, s);
+    if (cli_parse_double(s, &v) != 0 || !(v > 0) || v > 1e6) /* the library refuses the rest, per case */
+        return options_usage_error(CMD, "%s must be numbers from 0.001 to 100 (times R), not '%s'", opt, s);
     if (o->ncubes >= BENCH_MAX_LIST)
         return options_usage_error(CMD, "%s: at most %d values", opt, BENCH_MAX_LIST);
     o->cubes[o->ncubes++] = v;
@@ -322,7 +323,7 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case 1: /* an operand, in order */
             if (have_pending) {
                 if (parse_count(optarg, &pending.n) != 0)
-                    return options_usage_error(CMD, "%s needs a particle count N, not '%s'",
+                    return options_usage_error(CMD, "%s needs a particle count N from 1 to 2e9 (1k, 1M), not '%s'",
                                                pending.kind == IN_BLOCK ? "block" : "spray", optarg);
                 snprintf(pending.name, sizeof pending.name, "%s:%zu",
                          pending.kind == IN_BLOCK ? "block" : "spray", pending.n);
@@ -334,7 +335,8 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case B_SCENE: {
             int r = parse_scene(optarg, &in, &needs);
             if (r == -2)
-                return options_usage_error(CMD, "bad scene '%s': jet[:FRAME], block:N or spray:N", optarg);
+                return options_usage_error(CMD, "bad scene '%s': jet[:FRAME] (FRAME from 0 to 1000000), block:N or "
+                                           "spray:N (N from 1 to 2e9, 1k, 1M)", optarg);
             if (r == -1) {
                 if (c == B_SCENE)
                     return options_usage_error(CMD, "--scene is jet, block N or spray N, not '%s'", optarg);
@@ -356,8 +358,8 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case 'c': rc = each_item(o, "--cube-size", optarg, item_cube); break;
         case 'j': rc = each_item(o, "--threads", optarg, item_threads); break;
         case 'r':
-            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e30)
-                return options_usage_error(CMD, "--radius must be a number above 0, not '%s'", optarg);
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= 1.2e-38) || d > 1e30)
+                return options_usage_error(CMD, "--radius must be a number from 1.2e-38 to 1e+30, not '%s'", optarg);
             o->radius = d;
             break;
         case B_POST_SMOOTH:
@@ -379,19 +381,20 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
             break;
         case B_SMOOTH:
             if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e6)
-                return options_usage_error(CMD, "--smoothing-length must be a number above 0, not '%s'",
-                                           optarg);
+                return options_usage_error(CMD, "--smoothing-length must be a number from 0.05 to 100 (times R), "
+                                           "not '%s'", optarg);
             o->smoothing = d;
             break;
         case B_LINK:
-            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e6)
-                return options_usage_error(CMD, "--link-distance must be a number above 0, not '%s'",
-                                           optarg);
+            if (cli_parse_double(optarg, &d) != 0 || !(d >= 1.2e-38) || d > 1e6)
+                return options_usage_error(CMD, "--link-distance must be a number from 1.2e-38 to 1e+06 (times R), "
+                                           "not '%s'", optarg);
             o->link = d;
             break;
         case B_THRESHOLD:
             if (cli_parse_double(optarg, &d) != 0)
-                return options_usage_error(CMD, "--threshold must be a number, not '%s'", optarg);
+                return options_usage_error(CMD, "--threshold must be a number above -1 and below 1 for the "
+                                           "metasphere, above 0 for sph (0: the field's default), not '%s'", optarg);
             o->threshold = d;
             o->threshold_given = 1;
             break;
@@ -412,7 +415,8 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
             errno = 0;
             unsigned long long s = strtoull(optarg, &end, 10);
             if (!*optarg || *end || errno || optarg[0] == '-')
-                return options_usage_error(CMD, "--seed must be a whole number, not '%s'", optarg);
+                return options_usage_error(CMD, "--seed must be a whole number from 0 to %llu, not '%s'",
+                                           (unsigned long long)UINT64_MAX, optarg);
             o->seed = s;
             break;
         }
@@ -426,23 +430,25 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         }
         case B_MINTIME:
             if (cli_parse_double(optarg, &d) != 0 || d < 0 || d > 1e6)
-                return options_usage_error(CMD, "--min-time must be seconds >= 0, not '%s'", optarg);
+                return options_usage_error(CMD, "--min-time must be seconds from 0 to 1e+06, not '%s'", optarg);
             o->min_time = d;
             break;
         case B_REPEAT:
             if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
-                return options_usage_error(CMD, "--repeat must be a whole number >= 1, not '%s'", optarg);
+                return options_usage_error(CMD, "--repeat must be a whole number from 1 to 100000000, not '%s'",
+                                           optarg);
             o->repeat = l;
             break;
         case B_MAXREPEAT:
             if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
-                return options_usage_error(CMD, "--max-repeat must be a whole number >= 1, not '%s'",
+                return options_usage_error(CMD, "--max-repeat must be a whole number from 1 to 100000000, not '%s'",
                                            optarg);
             o->max_repeat = l;
             break;
         case B_WARMUP:
             if (cli_parse_long(optarg, 1, 1000000, &l) != 0)
-                return options_usage_error(CMD, "--warmup must be a whole number >= 1, not '%s'", optarg);
+                return options_usage_error(CMD, "--warmup must be a whole number from 1 to 1000000, not '%s'",
+                                           optarg);
             o->warmup = l;
             break;
         case B_WRITE: rc = parse_write(o, optarg); break;

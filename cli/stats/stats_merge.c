@@ -4,6 +4,7 @@
 #include <getopt.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "../../lib/jetmesh.h"
 #include "../convert.h"
@@ -36,7 +37,7 @@ void stats_merge_help(FILE *f)
           "      --help                  this help\n"
           "\n"
           "Exit status: 0 merged, 1 a file unreadable or a frame converted twice, 2 usage\n"
-          "error, 3 out of memory. See SHARDS in jetmesh(1).\n",
+          "error (an output that is an input too), 3 out of memory. See SHARDS in jetmesh(1).\n",
           f);
 }
 
@@ -91,6 +92,28 @@ static int copy_record(stats_log *out, const stats_record *rec)
     return 0;
 }
 
+/* Refuses an output that is one of the inputs (the same file, however it
+ * is spelled: device and inode), as convert does (issue 30: `stats merge
+ * a.csv b.csv -o a.csv` replaced its own input), and -o and --svg naming
+ * one file. */
+static int refuse_inputs(const char *cmd, char *const *files, size_t nfiles, const char *out, const char *svg)
+{
+    const char *outs[2] = {out, svg};
+    struct stat so, si;
+    if (svg && (strcmp(out, svg) == 0 || (stat(out, &so) == 0 && stat(svg, &si) == 0 && so.st_dev == si.st_dev &&
+                                          so.st_ino == si.st_ino)))
+        return options_usage_error(cmd, "-o and --svg would both write %s", svg);
+    for (int k = 0; k < 2; k++) {
+        if (!outs[k] || stat(outs[k], &so) != 0)
+            continue;
+        for (size_t f = 0; f < nfiles; f++)
+            if (stat(files[f], &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+                return options_usage_error(cmd, "refusing to overwrite the input file %s (with %s)", files[f],
+                                           outs[k]);
+    }
+    return EXIT_ALL_OK;
+}
+
 static const struct option merge_long[] = {
     {"output", required_argument, 0, 'o'},
     {"svg", required_argument, 0, 's'},
@@ -123,6 +146,9 @@ static int merge(int argc, char **argv)
         return options_usage_error(cmd, "no output: give -o FILE.csv or FILE.json");
     if (!stats_path_ok(out))
         return options_usage_error(cmd, "-o FILE must end in .csv or .json, not '%s'", out);
+    int clash = refuse_inputs(cmd, files, nfiles, out, svg);
+    if (clash != EXIT_ALL_OK)
+        return clash;
 
     stats_log in, merged;
     memset(&in, 0, sizeof in);

@@ -281,7 +281,9 @@ static void summary_value(stats_read_summary *sum, const char *key, size_t klen,
         size_t n = vlen < sizeof b - 1 ? vlen : sizeof b - 1;
         memcpy(b, v, n);
         b[n] = '\0';
-        sum->wall_seconds = strtod(b, NULL);
+        double w = strtod(b, NULL);
+        /* only a usable time reaches the merged report (no inf, no NaN) */
+        sum->wall_seconds = isfinite(w) && w >= 0 ? w : 0;
         return;
     }
     for (size_t i = 0; i < sizeof strs / sizeof *strs; i++)

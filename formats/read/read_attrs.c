@@ -94,6 +94,13 @@ jmf_status jmr_attr_begin(jmr_points *pts, const jmr_ctx *ctx, const char *name,
         return jmr_fail(ctx, JMF_E_UNSUPPORTED, at, "attribute '%.*s' has %zu components; expected 1 to 4",
                         (int)(n > 60 ? 60 : n), name, comps);
     }
+    size_t kept = comps;
+    for (size_t i = 0; i < pts->nattrs; i++) kept += (size_t)pts->attrs[i]->comps;
+    if (kept > JMF_MAX_ATTRIBUTE_COMPONENTS)
+        return jmr_fail(ctx, JMF_E_UNSUPPORTED, at,
+                        "attribute '%.*s' makes %zu components in all, over the limit of %d a frame carries; "
+                        "ask for fewer arrays by name",
+                        (int)(n > 60 ? 60 : n), name, kept, JMF_MAX_ATTRIBUTE_COMPONENTS);
     if (!jmr_mul(count, comps * sizeof(float), &bytes))
         return jmr_fail(ctx, JMF_E_NOMEM, at, "attribute '%.*s': size overflows", (int)(n > 60 ? 60 : n), name);
     na = realloc(pts->attrs, (pts->nattrs + 1) * sizeof *na);

@@ -6,8 +6,9 @@
  * the PLY numeric types, old or new names). Every element is read in order,
  * so elements before and after "vertex" (faces with list properties, ...) are
  * skipped exactly and a truncated body is noticed. Data after the last
- * element is ignored. Errors name the line in the header and in ascii bodies,
- * the byte offset in binary bodies.
+ * element other than blanks is an error, as in VTK: rows beyond the count
+ * the header declares (issue 30). Errors name the line in the header and in
+ * ascii bodies, the byte offset in binary bodies.
  */
 
 #define MAX_PROPS 256
@@ -24,6 +25,8 @@ typedef struct prop {
 } prop;
 
 typedef struct elem {
+    const char *name;
+    size_t namelen;
     size_t count;
     size_t first, nprops; /* into the property table */
     int is_vertex;
@@ -114,21 +117,41 @@ static jmf_status value(body *b, jmr_type t, double *out, const char *what)
     return JMF_OK;
 }
 
-static jmf_status read_elem(body *b, const elem *e, const prop *props, jmr_points *pts)
+/*
+ * The element's claimed rows checked against the bytes left, before
+ * anything is allocated for them (issue 30): binary rows take at least the
+ * sizes of their scalars and list counts; ascii rows a character and a
+ * separator per property.
+ */
+static jmf_status elem_fits(const body *b, const elem *e, const prop *props)
 {
-    size_t r, k, minrow = 0;
-    jmf_status st;
+    size_t k, minrow = 0, need, left = b->n - b->pos;
     for (k = 0; k < e->nprops; k++) {
         const prop *p = &props[e->first + k];
-        minrow += jmr_type_size(p->count_type != JMR_T_NONE ? p->count_type : p->type);
+        minrow += b->format == 0 ? 2 : jmr_type_size(p->count_type != JMR_T_NONE ? p->count_type : p->type);
     }
-    if (e->nprops == 0) return JMF_OK; /* rows without properties take no bytes */
-    if (b->format != 0) {
-        size_t need;
-        if (!jmr_mul(e->count, minrow, &need) || need > b->n - b->pos)
+    if (b->format == 0) left++; /* no separator after the last value */
+    if (!jmr_mul(e->count, minrow, &need) || need > left) {
+        if (b->format != 0)
             return jmr_fail(b->ctx, JMF_E_FORMAT, jmr_byte(b->pos),
                             "truncated: element of %zu rows needs at least %zu bytes each, only %zu bytes left",
                             e->count, minrow, b->n - b->pos);
+        return jmr_fail(b->ctx, JMF_E_FORMAT, jmr_line(e->line),
+                        "truncated: element of %zu rows of %zu values cannot fit in the %zu bytes after the "
+                        "header",
+                        e->count, e->nprops, b->n - b->pos);
+    }
+    return JMF_OK;
+}
+
+static jmf_status read_elem(body *b, const elem *e, const prop *props, jmr_points *pts)
+{
+    size_t r, k;
+    jmf_status st;
+    if (e->nprops == 0) return JMF_OK; /* rows without properties take no bytes */
+    if (b->format != 0) {
+        st = elem_fits(b, e, props);
+        if (st) return st;
     }
     if (e->is_vertex) {
         size_t guess = b->format == 0 ? (b->n - b->pos) / 2 + 1 : e->count;
@@ -191,6 +214,37 @@ static jmf_status read_elem(body *b, const elem *e, const prop *props, jmr_point
     return JMF_OK;
 }
 
+/* The vertex element's other scalar properties asked for as attributes
+ * (grouped NAME_x/_y/_z), kept once the rows claimed can be in the file
+ * at all (elem_fits). */
+static jmf_status begin_attrs(const body *b, const elem *e, prop *props, jmr_points *pts)
+{
+    const char *nm[MAX_PROPS];
+    size_t nl[MAX_PROPS], ng, k;
+    int skip[MAX_PROPS];
+    jmr_colgroup g[MAX_PROPS];
+    jmf_status st = elem_fits(b, e, props);
+    if (st) return st;
+    for (k = 0; k < e->nprops; k++) {
+        const prop *p = &props[e->first + k];
+        nm[k] = p->name;
+        nl[k] = p->namelen;
+        skip[k] = p->role != -1 || p->count_type != JMR_T_NONE || (p->namelen == 2 && memcmp(p->name, "id", 2) == 0);
+    }
+    ng = jmr_group_columns(nm, nl, skip, e->nprops, g);
+    for (k = 0; k < ng; k++) {
+        jmr_attr *a = NULL;
+        st = jmr_attr_begin(pts, b->ctx, g[k].name, strlen(g[k].name), (size_t)g[k].comps, e->count,
+                            jmr_line(e->line), &a);
+        if (st) return st;
+        for (int c = 0; a && c < g[k].comps; c++) {
+            props[e->first + g[k].cols[c]].attr = a;
+            props[e->first + g[k].cols[c]].comp = (size_t)c;
+        }
+    }
+    return JMF_OK;
+}
+
 jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
 {
     prop props[MAX_PROPS];
@@ -247,6 +301,8 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             if (!jmr_parse_size(w[2].s, w[2].n, &e->count))
                 return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "expected an element count, found '%.*s'",
                                 SHOW(w[2]));
+            e->name = w[1].s;
+            e->namelen = w[1].n;
             e->first = nprops;
             e->nprops = 0;
             e->line = line;
@@ -331,42 +387,32 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             st = jmr_points_want_ids(pts, ctx);
             if (st) return st;
         }
-        if (jmr_attrs_wanted(ctx)) {
-            /* the other scalar vertex properties: attributes */
-            const char *nm[MAX_PROPS];
-            size_t nl[MAX_PROPS], ng;
-            int skip[MAX_PROPS];
-            jmr_colgroup g[MAX_PROPS];
-            for (k = 0; k < e->nprops; k++) {
-                const prop *p = &props[e->first + k];
-                nm[k] = p->name;
-                nl[k] = p->namelen;
-                skip[k] = p->role != -1 || p->count_type != JMR_T_NONE ||
-                          (p->namelen == 2 && memcmp(p->name, "id", 2) == 0);
-            }
-            ng = jmr_group_columns(nm, nl, skip, e->nprops, g);
-            for (k = 0; k < ng; k++) {
-                jmr_attr *a = NULL;
-                st = jmr_attr_begin(pts, ctx, g[k].name, strlen(g[k].name), (size_t)g[k].comps, e->count,
-                                    jmr_line(e->line), &a);
-                if (st) return st;
-                for (int c = 0; a && c < g[k].comps; c++) {
-                    props[e->first + g[k].cols[c]].attr = a;
-                    props[e->first + g[k].cols[c]].comp = (size_t)c;
-                }
-            }
+        b.d = data;
+        b.n = size;
+        b.pos = pos;
+        b.line = line + 1;
+        b.ctx = ctx;
+        b.format = format;
+        if (jmr_attrs_wanted(ctx) && e->nprops) {
+            st = begin_attrs(&b, e, props, pts);
+            if (st) return st;
         }
     }
 
-    b.d = data;
-    b.n = size;
-    b.pos = pos;
-    b.line = line + 1;
-    b.ctx = ctx;
-    b.format = format;
     for (i = 0; i < nelems; i++) {
         st = read_elem(&b, &elems[i], props, pts);
         if (st) return st;
+    }
+    while (b.pos < size && jmr_isspace(data[b.pos])) {
+        if (data[b.pos] == '\n') b.line++;
+        b.pos++;
+    }
+    if (b.pos < size) {
+        const elem *e = &elems[nelems - 1];
+        return jmr_fail(ctx, JMF_E_FORMAT, body_at(&b, b.pos, b.line),
+                        "data after the last element ('%.*s', %zu rows as the header declares); expected the "
+                        "end of the file: the header's count is lower than the rows",
+                        (int)(e->namelen > 40 ? 40 : e->namelen), e->name, e->count);
     }
     return JMF_OK;
 }

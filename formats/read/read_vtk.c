@@ -141,6 +141,32 @@ static jmf_status line_type(vt *v, jmr_type *ty, int *is_bit)
 enum sink { SINK_NONE, SINK_POINTS, SINK_IDS, SINK_ATTR };
 
 /*
+ * A claim of count values of type ty checked against the bytes left, before
+ * anything is allocated for them (issue 30: a file that cannot hold what it
+ * claims is a bad frame, not a memory error): binary, count values of their
+ * size; ASCII, at least a character and a separator each.
+ */
+static jmf_status fits(vt *v, size_t count, jmr_type ty, int is_bit, const char *what)
+{
+    size_t left = v->n - v->pos, bytes;
+    if (!v->binary) {
+        if (count > left / 2 + 1)
+            return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v),
+                            "truncated %s: expected %zu values, but the %zu bytes left hold at most %zu", what,
+                            count, left, left / 2 + 1);
+        return JMF_OK;
+    }
+    if (is_bit) bytes = count / 8 + (count % 8 != 0);
+    else if (!jmr_mul(count, jmr_type_size(ty), &bytes))
+        return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v), "%s: %zu values overflow", what, count);
+    if (bytes > left)
+        return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v),
+                        "truncated %s: expected %zu values (%zu bytes), only %zu bytes left", what, count, bytes,
+                        left);
+    return JMF_OK;
+}
+
+/*
  * Reads count values of type ty (after the header line). Binary: big-endian
  * raw values; ASCII: count numeric tokens. SINK_POINTS adds triples to pts,
  * SINK_IDS stores integer ids.
@@ -152,14 +178,9 @@ static jmf_status values(vt *v, size_t count, jmr_type ty, int is_bit, enum sink
     double xyz[3];
     jmf_status st;
     if (v->binary) {
-        size_t sz = jmr_type_size(ty), bytes;
-        if (is_bit) bytes = count / 8 + (count % 8 != 0);
-        else if (!jmr_mul(count, sz, &bytes))
-            return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v), "%s: %zu values overflow", what, count);
-        if (bytes > v->n - v->pos)
-            return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v),
-                            "truncated %s: expected %zu values (%zu bytes), only %zu bytes left", what, count,
-                            bytes, v->n - v->pos);
+        size_t sz = jmr_type_size(ty), bytes = is_bit ? count / 8 + (count % 8 != 0) : count * sz;
+        st = fits(v, count, ty, is_bit, what);
+        if (st) return st;
         if (sink == SINK_POINTS) {
             st = jmr_points_reserve(pts, v->ctx, count / 3);
             if (st) return st;
@@ -213,8 +234,16 @@ static jmf_status values(vt *v, size_t count, jmr_type ty, int is_bit, enum sink
     return JMF_OK;
 }
 
-/* Reads "count values" of a section whose header line has ended with the type token. */
-static jmf_status typed_values(vt *v, size_t count, enum sink sink, jmr_points *pts, const char *what)
+/* A point-data array to keep (jmr_attr_begin) once its values are known to fit. */
+typedef struct claim {
+    const tok *name;
+    size_t comps, tuples;
+} claim;
+
+/* Reads "count values" of a section whose header line has ended with the
+ * type token; with attr, the array asked for is kept (SINK_ATTR). */
+static jmf_status typed_values(vt *v, size_t count, enum sink sink, jmr_points *pts, const char *what,
+                               const claim *attr)
 {
     jmr_type ty;
     int is_bit;
@@ -223,6 +252,14 @@ static jmf_status typed_values(vt *v, size_t count, enum sink sink, jmr_points *
     st = end_line(v, what);
     if (st) return st;
     if (sink == SINK_IDS && (!jmr_type_is_int(ty) || is_bit)) sink = SINK_NONE;
+    if (attr && !is_bit) {
+        st = fits(v, count, ty, is_bit, what);
+        if (st) return st;
+        st = jmr_attr_begin(pts, v->ctx, attr->name->s, attr->name->n, attr->comps, attr->tuples,
+                            at_tok(v, attr->name), &v->attr);
+        if (st) return st;
+        if (v->attr) sink = SINK_ATTR;
+    }
     return values(v, count, ty, is_bit, sink, pts, what);
 }
 
@@ -250,11 +287,11 @@ static jmf_status cells(vt *v, const char *kw, size_t *ncells)
     *ncells = a;
     if (peek_kw(v, "OFFSETS", &t)) {
         *ncells = a ? a - 1 : 0; /* 5.x: a offsets for a - 1 cells */
-        st = typed_values(v, a, SINK_NONE, NULL, "OFFSETS");
+        st = typed_values(v, a, SINK_NONE, NULL, "OFFSETS", NULL);
         if (st) return st;
         if (!peek_kw(v, "CONNECTIVITY", &t))
             return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v), "expected CONNECTIVITY after the OFFSETS of %s", kw);
-        return typed_values(v, b, SINK_NONE, NULL, "CONNECTIVITY");
+        return typed_values(v, b, SINK_NONE, NULL, "CONNECTIVITY", NULL);
     }
     return values(v, b, JMR_T_I32, 0, SINK_NONE, NULL, kw);
 }
@@ -293,6 +330,7 @@ static jmf_status field(vt *v, size_t ntuples_expected, int point_data, jmr_poin
         tok name;
         size_t ncomp, ntup, total;
         enum sink sink = SINK_NONE;
+        claim keep = { &name, 0, 0 };
         if (!next_tok(v, &name))
             return jmr_fail(v->ctx, JMF_E_FORMAT, at_now(v), "truncated FIELD: expected %zu arrays, found %zu", k, i);
         if (jmr_ieq(name.s, name.n, "METADATA")) { /* belongs to the previous array */
@@ -318,11 +356,10 @@ static jmf_status field(vt *v, size_t ntuples_expected, int point_data, jmr_poin
             if (st) return st;
             sink = SINK_IDS;
         } else if (point_data && ntup > 0) {
-            st = jmr_attr_begin(pts, v->ctx, name.s, name.n, ncomp, ntup, at_tok(v, &name), &v->attr);
-            if (st) return st;
-            if (v->attr) sink = SINK_ATTR;
+            keep.comps = ncomp;
+            keep.tuples = ntup;
         }
-        st = typed_values(v, total, sink, pts, "FIELD array");
+        st = typed_values(v, total, sink, pts, "FIELD array", keep.comps ? &keep : NULL);
         if (st) return st;
     }
     return JMF_OK;
@@ -388,7 +425,7 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             if (!jmr_mul(npoints, 3, &nvals))
                 return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "point count %zu overflows", npoints);
             have_points = 1;
-            st = typed_values(&v, nvals, SINK_POINTS, pts, "POINTS");
+            st = typed_values(&v, nvals, SINK_POINTS, pts, "POINTS", NULL);
         } else if (jmr_ieq(t.s, t.n, "CELLS") || jmr_ieq(t.s, t.n, "VERTICES") || jmr_ieq(t.s, t.n, "LINES") ||
                    jmr_ieq(t.s, t.n, "POLYGONS") || jmr_ieq(t.s, t.n, "TRIANGLE_STRIPS")) {
             size_t nc = 0;
@@ -434,7 +471,7 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                    jmr_ieq(t.s, t.n, "Z_COORDINATES")) {
             size_t n;
             st = line_size(&v, "a coordinate count", &n);
-            if (!st) st = typed_values(&v, n, SINK_NONE, NULL, "coordinates");
+            if (!st) st = typed_values(&v, n, SINK_NONE, NULL, "coordinates", NULL);
         } else if (mode && (jmr_ieq(t.s, t.n, "SCALARS"))) {
             tok name;
             jmr_type ty;
@@ -462,19 +499,20 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
                 if (!st) st = end_line(&v, "LOOKUP_TABLE");
                 if (st) return st;
             }
+            if (attr_count > SIZE_MAX / 4)
+                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "attribute count %zu overflows", attr_count);
+            total = attr_count * ncomp; /* ncomp <= 4 */
             if (mode == 1 && ncomp == 1 && have_points && !is_bit && jmr_type_is_int(ty) && name.n == 2 &&
                 memcmp(name.s, "id", 2) == 0 && pts->count == npoints) {
                 st = jmr_points_want_ids(pts, ctx);
                 if (st) return st;
                 sink = SINK_IDS;
             } else if (mode == 1 && !is_bit) {
-                st = jmr_attr_begin(pts, ctx, name.s, name.n, ncomp, attr_count, at_tok(&v, &name), &v.attr);
+                st = fits(&v, total, ty, is_bit, "SCALARS");
+                if (!st) st = jmr_attr_begin(pts, ctx, name.s, name.n, ncomp, attr_count, at_tok(&v, &name), &v.attr);
                 if (st) return st;
                 if (v.attr) sink = SINK_ATTR;
             }
-            total = attr_count * ncomp; /* ncomp <= 4: cannot overflow unless attr_count is absurd */
-            if (attr_count > SIZE_MAX / 4)
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "attribute count %zu overflows", attr_count);
             st = values(&v, total, ty, is_bit, sink, pts, "SCALARS");
         } else if (mode && jmr_ieq(t.s, t.n, "LOOKUP_TABLE")) {
             tok name;
@@ -516,13 +554,9 @@ jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             if (!jmr_mul(attr_count, per, &total))
                 return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "attribute size overflows");
             {
-                enum sink sink = SINK_NONE;
-                if (mode == 1 && (jmr_ieq(t.s, t.n, "VECTORS") || jmr_ieq(t.s, t.n, "NORMALS"))) {
-                    st = jmr_attr_begin(pts, ctx, name.s, name.n, per, attr_count, at_tok(&v, &name), &v.attr);
-                    if (st) return st;
-                    if (v.attr) sink = SINK_ATTR;
-                }
-                st = typed_values(&v, total, sink, pts, "attribute");
+                claim keep = { &name, per, attr_count };
+                int kept = mode == 1 && (jmr_ieq(t.s, t.n, "VECTORS") || jmr_ieq(t.s, t.n, "NORMALS"));
+                st = typed_values(&v, total, SINK_NONE, pts, "attribute", kept ? &keep : NULL);
             }
         } else {
             return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t),

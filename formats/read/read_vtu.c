@@ -266,15 +266,25 @@ static jmf_status data_array(vtu *v, const xtag *t, darr *da)
                         SHOWA(fm));
     if (da->fmt == FMT_APPENDED && !attr_size(attr(t, "offset"), &da->offset))
         return jmr_fail(x->ctx, JMF_E_FORMAT, jmr_byte(t->pos), "appended DataArray without a valid offset attribute");
+    /* where its (empty) content is, for messages */
+    da->seg = t->selfclose ? t->pos : x->pos;
     if (t->selfclose) return JMF_OK;
-    /* content: one non-blank text run, nested elements (InformationKey) skipped */
+    /* content: one non-blank text run (a CDATA section is text too),
+     * nested elements (InformationKey) skipped */
     for (;;) {
         size_t s = x->pos, e, i;
         const uint8_t *lt = memchr(x->d + s, '<', x->n - s);
         xtag in;
-        int skipped;
+        int skipped, cdata;
         jmf_status st;
         e = lt ? (size_t)(lt - x->d) : x->n;
+        cdata = x->n - s >= 9 && memcmp(x->d + s, "<![CDATA[", 9) == 0;
+        if (cdata) {
+            s += 9;
+            e = find(x->d, x->n, s, "]]>");
+            if (e == x->n)
+                return jmr_fail(x->ctx, JMF_E_FORMAT, jmr_byte(s - 9), "truncated XML: expected ']]>'");
+        }
         for (i = s; i < e && jmr_isspace(x->d[i]); i++) {}
         if (i < e) {
             if (da->seglen)
@@ -282,9 +292,11 @@ static jmf_status data_array(vtu *v, const xtag *t, darr *da)
             da->seg = s;
             da->seglen = e - s;
         }
-        x->pos = e;
+        x->pos = cdata ? e + 3 : e;
+        if (cdata) continue;
         if (!lt)
             return jmr_fail(x->ctx, JMF_E_FORMAT, jmr_byte(x->n), "truncated XML: expected </DataArray>");
+        if (x->n - e >= 9 && memcmp(x->d + e, "<![CDATA[", 9) == 0) continue; /* the next run */
         st = parse_tag(x, &in, &skipped);
         if (st) return st;
         if (skipped) continue;
@@ -393,6 +405,28 @@ static jmf_status read_header_word(vtu *v, src *s, uint64_t *out, const char *wh
     return JMF_OK;
 }
 
+/* deflate's largest expansion, about 1032:1 (a block of repeated bytes) */
+#define ZLIB_MAX_RATIO 1032
+
+/* Counts bytes more decoded bytes against the cap for all arrays together:
+ * the reader's limit (JMF_E_LIMIT), or what the file's size can decode to
+ * at zlib's largest ratio, which only arrays sharing their data can pass
+ * (a bad frame). */
+static jmf_status decoded_room(vtu *v, size_t bytes, size_t at, const char *what)
+{
+    if (bytes > v->decoded_max - v->decoded) {
+        if (v->decoded_max < jmr_max_decoded(v->x.ctx))
+            return jmr_fail(v->x.ctx, JMF_E_FORMAT, jmr_byte(at),
+                            "%s: the arrays claim over %zu decoded bytes, more than the file's %zu bytes can "
+                            "hold (zlib expands at most %d:1)",
+                            what, v->decoded_max, v->x.n, ZLIB_MAX_RATIO);
+        return jmr_fail(v->x.ctx, JMF_E_LIMIT, jmr_byte(at), "%s: %zu more decoded bytes exceed the limit of %zu",
+                        what, bytes, v->decoded_max);
+    }
+    v->decoded += bytes;
+    return JMF_OK;
+}
+
 /*
  * Decodes one data block stream from s into a new buffer of exactly `bytes`
  * bytes. file_base + s->pos is the byte offset for messages.
@@ -405,10 +439,8 @@ static jmf_status block_stream(vtu *v, src *s, size_t bytes, size_t file_base, u
     jmf_status st;
     size_t at = file_base + src_at(s);
     *out = NULL;
-    if (bytes > v->decoded_max - v->decoded)
-        return jmr_fail(ctx, JMF_E_LIMIT, jmr_byte(at), "%s: %zu more decoded bytes exceed the limit of %zu", what,
-                        bytes, v->decoded_max);
-    v->decoded += bytes;
+    /* what the block claims is checked against the bytes there before the
+     * limit (issue 30): a file that cannot hold it is a bad frame */
     if (!v->zlib) {
         st = read_header_word(v, s, &w, "byte count", file_base);
         if (st) return st;
@@ -418,6 +450,8 @@ static jmf_status block_stream(vtu *v, src *s, size_t bytes, size_t file_base, u
         if (bytes > src_avail(s))
             return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(file_base + src_at(s)),
                             "truncated %s: expected %zu bytes of data, at most %zu left", what, bytes, src_avail(s));
+        st = decoded_room(v, bytes, at, what);
+        if (st) return st;
         buf = malloc(bytes ? bytes : 1);
         if (!buf) return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for %zu bytes", bytes);
         if (src_read(s, buf, bytes) != bytes) {
@@ -466,6 +500,20 @@ static jmf_status block_stream(vtu *v, src *s, size_t bytes, size_t file_base, u
                                 what, (unsigned long long)i, c, src_avail(s));
             }
             if (csize[i] > maxc) maxc = (size_t)csize[i];
+            if ((i + 1 == nblocks && last ? last : bsize) > csize[i] * ZLIB_MAX_RATIO + 64) {
+                unsigned long long c = (unsigned long long)csize[i];
+                free(csize);
+                return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(at),
+                                "%s: compressed block %llu of %llu bytes cannot hold the %llu bytes its header "
+                                "claims (zlib expands at most %d:1)",
+                                what, (unsigned long long)i, c,
+                                (unsigned long long)(i + 1 == nblocks && last ? last : bsize), ZLIB_MAX_RATIO);
+            }
+        }
+        st = decoded_room(v, bytes, at, what);
+        if (st) {
+            free(csize);
+            return st;
         }
         buf = malloc(bytes ? bytes : 1);
         cbuf = malloc(maxc ? maxc : 1);

@@ -163,7 +163,10 @@ typedef struct jmr_attr {
  * (0 when they are pushed one at a time) met in the file: notes its name and,
  * when it was asked for, allocates it (zeroed) into *out; else *out = NULL.
  * The first array of a name wins. An array of over 4 components asked for
- * by name is an error; with "all" it is passed over.
+ * by name is an error; with "all" it is passed over. Kept arrays of over
+ * JMF_MAX_ATTRIBUTE_COMPONENTS components in all are an error. The reader
+ * checks count against the bytes left before the call: a count the file
+ * cannot hold is a truncated file, not an allocation to try.
  */
 jmf_status jmr_attr_begin(jmr_points *pts, const jmr_ctx *ctx, const char *name, size_t n, size_t comps,
                           size_t count, jmr_at at, jmr_attr **out);

@@ -37,16 +37,32 @@ static jmf_status put_floats(jmf_atomic_file *af, unsigned char *buf, const floa
     return jmf_atomic_write(af, buf, n, err, errlen);
 }
 
+/* One header line of any length (an attribute's name is not bounded). */
 __attribute__((format(printf, 4, 5)))
 static jmf_status put_text(jmf_atomic_file *af, char *err, size_t errlen, const char *fmt, ...)
 {
-    char line[512];
+    char line[512], *big = NULL;
     va_list ap;
     va_start(ap, fmt);
     int n = vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    if (n < 0 || (size_t)n >= sizeof line) n = (int)strlen(line);
-    return jmf_atomic_write(af, line, (size_t)n, err, errlen);
+    if (n < 0) {
+        snprintf(err, errlen, "%s: cannot format a header line", af->final_path);
+        return JMF_E_IO;
+    }
+    if ((size_t)n >= sizeof line) {
+        big = malloc((size_t)n + 1);
+        if (!big) {
+            snprintf(err, errlen, "%s: out of memory", af->final_path);
+            return JMF_E_NOMEM;
+        }
+        va_start(ap, fmt);
+        vsnprintf(big, (size_t)n + 1, fmt, ap);
+        va_end(ap);
+    }
+    jmf_status st = jmf_atomic_write(af, big ? big : line, (size_t)n, err, errlen);
+    free(big);
+    return st;
 }
 
 jmf_status jmf_write_vtk(jmf_atomic_file *af, const jm_mesh *mesh,

@@ -69,8 +69,9 @@ static void fuzz_mesh_once(const jmf_frame *fr, float radius, jm_field field, jm
     jm_context_free(ctx);
 }
 
-/* Reads data as CSV and meshes it (up to FUZZ_MESH_MAX_PARTICLES
- * particles) at radius 0.25 with the metasphere (MT) and SPH (MC), and at
+/* Reads data as CSV, chooses its field as --field auto does, and meshes
+ * it (up to FUZZ_MESH_MAX_PARTICLES particles) at radius 0.25 with the
+ * metasphere (MT) and SPH (MC), and at
  * a radius from the data's own scale (its largest |coordinate| over 8,
  * when that is a normal float), so extreme magnitudes reach the library's
  * units and numeric domain rather than stopping at the lattice range. */
@@ -91,6 +92,18 @@ static void fuzz_mesh(const uint8_t *data, size_t size)
     float far = 0.0f;
     for (size_t i = 0; i < 3 * fr.count; i++)
         if (fabsf(fr.xyz[i]) > far) far = fabsf(fr.xyz[i]);
+    /* the automatic field choice (its work is bounded: issue 30's piles) */
+    {
+        jm_params cp;
+        memset(&cp, 0, sizeof cp);
+        cp.radius = 0.25f;
+        jm_particles in = {fr.xyz, fr.count, 0, NULL};
+        jm_field f;
+        jm_method m;
+        float nb = -1.0f;
+        if (jm_choose_field(&cp, &in, &f, &m, &nb) != JM_OK) FUZZ_MESH_FAIL("field choice refused finite particles");
+        if (!(nb >= 0.0f) || !isfinite(nb)) FUZZ_MESH_FAIL("field choice measure not finite");
+    }
     fuzz_mesh_once(&fr, 0.25f, JM_FIELD_METASPHERE, JM_METHOD_MT);
     fuzz_mesh_once(&fr, 0.25f, JM_FIELD_SPH, JM_METHOD_MC);
     float own = far / 8.0f;
