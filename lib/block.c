@@ -5,6 +5,7 @@
 #include "aniso_splat.h"
 #include "cull.h"
 #include "inside_boxes.h"
+#include "metaroot.h"
 #include "metavertex.h"
 #include "splat.h"
 #include "tables.h"
@@ -127,85 +128,6 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     }
     o->capv = nc;
     return 1;
-}
-
-/* The edge's two pieces at a point: values (-inf where absent), unit
- * normals, the winner's index. */
-typedef struct cand_pt {
-    float v[2], nk[2][3];
-    int w;
-} cand_pt;
-
-/* Metasphere at p, from the pieces that won at the edge's two nodes (the
- * field is their maximum near the edge, but see jm_meta_probe): returns
- * the value; n gets the winning piece's outward normal, *glen its gradient
- * length and *win the piece, *cp both pieces there. */
-static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
-                       float *glen, cand_pt *cp, uint32_t *win)
-{
-    float gk[2] = {0, 0};
-    cp->v[0] = cp->v[1] = -INFINITY;
-    for (int k = 0; k < 2; k++)
-        if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0]))
-            cp->v[k] = jm_prim_eval(g, c, cand[k], p, cp->nk[k], &gk[k]);
-    const int w = cp->v[1] > cp->v[0];
-    cp->w = w;
-    if (cp->v[w] == -INFINITY) return -INFINITY;
-    memcpy(n, cp->nk[w], sizeof cp->nk[w]);
-    *glen = gk[w];
-    *win = cand[w];
-    return cp->v[w];
-}
-
-/* The metasphere's crossing on edge a + t ab: the linear estimate t is
- * refined on the exact function (directly for a single ball, else by
- * safeguarded Newton steps), so vertices lie on the surface, not on the
- * chord of the samples. *win gets the piece winning at the last point
- * evaluated. */
-static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
-                         const float ab[3], float fa, float t, uint32_t *win)
-{
-    uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
-    *win = one;
-    if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
-        /* a single ball: |a + t ab - q| = r (1 - threshold), solved directly */
-        const float *q = &g->pos[3 * (size_t)one];
-        float R = c->r * (1.0f - c->threshold);
-        float w[3] = {a[0] - q[0], a[1] - q[1], a[2] - q[2]};
-        float A = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-        float Bh = w[0] * ab[0] + w[1] * ab[1] + w[2] * ab[2];
-        float C = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - R * R;
-        float disc = Bh * Bh - A * C;
-        if (disc >= 0.0f) {
-            float sq = sqrtf(disc);
-            float t1 = (-Bh - sq) / A, t2 = (-Bh + sq) / A;
-            float best = fabsf(t1 - t) < fabsf(t2 - t) ? t1 : t2;
-            if (best >= 0.0f && best <= 1.0f) return best;
-        }
-    }
-    /* Newton steps on f(t) = field - threshold along the edge, kept inside
-     * the bracket [ta, tb] (bisecting when a step leaves it) */
-    float ta = 0.0f, tb = 1.0f;
-    const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
-    for (int it = 0; it < 4; it++) {
-        float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
-        cand_pt cp;
-        float f = cand_eval(g, c, cand, p, n, &glen, &cp, win) - c->threshold;
-        if (fabsf(f) < tol) return t;
-        if ((f > 0.0f) == (fa > 0.0f)) ta = t; else tb = t;
-        float df = -glen * (n[0] * ab[0] + n[1] * ab[1] + n[2] * ab[2]);
-        float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
-        if (!(tn > ta && tn < tb)) {
-            tn = 0.5f * (ta + tb);
-        } else if (fabsf(tn - t) < 0.1f) {
-            /* a Newton step of under a tenth of the edge: done (the error
-             * left is second order in the step, about 1e-3 of the edge
-             * here) */
-            return tn;
-        }
-        t = tn;
-    }
-    return t;
 }
 
 /* Sorts (slot, index) pairs by slot. They are made in scan order, so
@@ -516,11 +438,11 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
                             const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
                             float tt = (thr - fa) / (fb - fa);
-                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL, win = UINT32_MAX;
+                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL;
                             if (meta) {
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, &win);
+                                tt = jm_meta_root(g, c, cv, a, ab, fa - thr, tt);
                                 /* for jm_meta_probe: the edge and the root */
                                 const float pt[3] = {a[0] + tt * ab[0], a[1] + tt * ab[1], a[2] + tt * ab[2]};
                                 if (!jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, pt)) {
