@@ -6,6 +6,7 @@
 #include "cull.h"
 #include "inside_boxes.h"
 #include "metaroot.h"
+#include "metasplat.h"
 #include "metavertex.h"
 #include "splat.h"
 #include "tables.h"
@@ -357,7 +358,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         fv = s->pad;
         fs = JM_PAD(n);
     } else {
-        fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad, &fs);
+        fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->rowstate, s->pad, &fs);
     }
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
@@ -365,9 +366,17 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     /* inside flags, and per node row whether it is all outside (0), all
      * inside (1) or mixed (2) */
     uint8_t *rs = s->rowstate;
+    /* the metasphere's rows no piece reached (metasplat.h, in rowstate
+     * until read here) are all outside */
+    const int splat_rows = c->field == JM_FIELD_METASPHERE;
     for (size_t r = 0; r < (size_t)n * n; r++) {
         const float *f = fv + r * fs;
         uint8_t *in = s->in + r * (size_t)n;
+        if (splat_rows && rs[r] != JM_ROW_SPLAT) {
+            memset(in, 0, (size_t)n);
+            rs[r] = 0;
+            continue;
+        }
         int i0 = 0, i1 = n;
         size_t sum = 0;
         if (span) {
