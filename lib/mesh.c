@@ -675,8 +675,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     }
     jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
     if (c->field == JM_FIELD_METASPHERE && (c->compensate || c->normals) &&
-        !jm_meta_finish(&ctx->mem, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate, c->normals,
-                        0.1f * c->h)) {
+        !jm_meta_finish(&ctx->mem, ctx->pool, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate,
+                        c->normals, 0.1f * c->h)) {
         s = JM_E_OUT_OF_MEMORY;
         goto out_job;
     }

@@ -321,166 +321,213 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
     return ok;
 }
 
-int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
-                   int facing, float max_sag)
+/* The passes over every triangle run in chunks on the pool's threads,
+ * each triangle's result kept apart (its sag and area, its fold and facing
+ * bits); the sums over a vertex's triangles and the rounds' bookkeeping
+ * then run in triangle order on one thread, so the result does not depend
+ * on the threads. */
+#define FIN_CHUNK ((size_t)4096) /* triangles a task: a multiple of 16 */
+typedef struct fin {
+    const float *P, *N, *D;
+    const uint32_t *idx;
+    size_t nt;
+    int facing, lanes;  /* lanes: 16 (AVX-512), 8 (AVX2) or 1 a pass */
+    float *C;           /* per triangle: its normal (x2 area), 4 floats */
+    float *as, *area;   /* per triangle: its sag times its area / 24, its area */
+    uint32_t *bits;     /* round 0, per 16 triangles t0 + l: bit l set where it
+                           folds, bit 16 + l where a corner faces away */
+} fin;
+
+static void sag_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const fin *F = arg;
+    const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt;
+    size_t t = k * FIN_CHUNK;
+    for (; F->lanes == 16 && t + 16 <= t1; t += 16) jm_finish_sag16(F->P, F->N, F->idx, t, F->C, F->as + t, F->area + t);
+    for (; F->lanes >= 8 && t + 8 <= t1; t += 8) jm_finish_sag8(F->P, F->N, F->idx, t, F->C, F->as + t, F->area + t);
+    for (; t < t1; t++) {
+        float len;
+        const float sag = tri_sag(F->P, F->N, F->idx + 3 * t, &len, F->C + 4 * t);
+        F->area[t] = 0.5f * len;
+        F->as[t] = F->area[t] * sag * (1.0f / 24.0f);
+    }
+}
+
+static void fold0_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const fin *F = arg;
+    const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt;
+    size_t t = k * FIN_CHUNK;
+    for (size_t w = t / 16; w <= (t1 - 1) / 16; w++) F->bits[w] = 0;
+    for (; F->lanes == 16 && t + 16 <= t1; t += 16)
+        F->bits[t / 16] = jm_finish_fold16(F->P, F->N, F->D, F->idx, t, F->C, F->facing);
+    for (; F->lanes >= 8 && t + 8 <= t1; t += 8)
+        F->bits[t / 16] |= jm_finish_fold8(F->P, F->N, F->D, F->idx, t, F->C, F->facing) << (t % 16);
+    for (; t < t1; t++) {
+        const uint32_t *v = F->idx + 3 * t;
+        const uint32_t f = (uint32_t)folds(F->P, F->N, F->D, v, F->C + 4 * t);
+        const uint32_t away = (uint32_t)(F->facing && stored_away(F->N, v, F->C + 4 * t));
+        F->bits[t / 16] |= (f | away << 16) << (t % 16);
+    }
+}
+
+/* Each vertex's offset D along its normal: the area-weighted mean sag of
+ * its triangles (their normals into C), at most max_sag either way. */
+static int sag_offsets(jm_mem *mem, jm_pool *pool, fin *F, float *A, float *D, size_t nv, float max_sag)
+{
+    const size_t nt = F->nt, nch = (nt + FIN_CHUNK - 1) / FIN_CHUNK;
+    F->as = jm_alloc(mem, 2 * (nt + 1) * sizeof(float));
+    if (!F->as) return 0;
+    F->area = F->as + nt + 1;
+    jm_pool_run(pool, nch, 1, sag_task, F);
+    memset(A, 0, 2 * nv * sizeof(float));
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *vi = F->idx + 3 * t;
+        for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], F->as[t], F->area[t]);
+    }
+    jm_free(mem, F->as, 2 * (nt + 1) * sizeof(float));
+    F->as = F->area = NULL;
+    for (size_t i = 0; i < nv; i++) {
+        float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
+        /* where the normals turn across a triangle more than a curved
+         * surface could (creases and folds finer than the cubes), the
+         * estimate means nothing: at most a tenth of a cube */
+        D[i] = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
+    }
+    return 1;
+}
+
+/* The fold rounds' lists: watch (the triangles of the rounds after the
+ * first), awl (those the first found with a corner away) and hit (the
+ * vertices a round flags) */
+typedef struct rounds {
+    uint32_t *watch, *awl, *hit;
+    size_t capw, nw, na;
+    int listed;
+} rounds;
+
+/* No triangle folds over: a triangle whose normal, its vertices moved,
+ * would point against its own before has its vertices' offsets halved
+ * (zeroed after FOLD_HALVINGS rounds), until none does. Each zeroing round
+ * zeroes a vertex of every folded triangle and a triangle of unmoved
+ * vertices is not folded, so the rounds end. After the first round (every
+ * triangle), a round looks only at the triangles with a vertex whose
+ * offset has changed: the others keep the offsets with which that round
+ * found them not folded. The first round's moved normal replaces each
+ * triangle's in C: where no vertex changes after it, the facing test's. */
+static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint8_t *flag, size_t nv,
+                       rounds *R)
+{
+    const size_t nt = F->nt;
+    const uint32_t *idx = F->idx;
+    const size_t nw = (nt + 15) / 16;
+    F->bits = jm_alloc(mem, (nw + 1) * sizeof *F->bits);
+    if (!F->bits) return 0;
+    F->D = D;
+    jm_pool_run(pool, (nt + FIN_CHUNK - 1) / FIN_CHUNK, 1, fold0_task, F);
+    memset(changed, 0, nv);
+    memset(flag, 0, nv);
+    for (int round = 0, all = 1;; round++) {
+        size_t folded = 0, fresh = 0, nh = 0;
+        /* round 0: the triangles its bits mark, in order; then the watched
+         * ones (or all) tested */
+        const size_t count = round ? (all ? nt : R->nw) : nw;
+        for (size_t j = 0; j < count; j++) {
+            uint32_t m = 1;
+            size_t t = all ? j : R->watch[j];
+            if (!round) {
+                m = F->bits[j];
+                t = 16 * j;
+            }
+            for (uint32_t any = round ? 1 : (m | m >> 16) & 0xffffu; any; any &= any - 1) {
+                const int l = round ? 0 : __builtin_ctz(any);
+                const uint32_t *v = idx + 3 * (t + (size_t)l);
+                if (!round && (m >> (16 + l) & 1)) {
+                    if (R->na < R->capw) R->awl[R->na++] = (uint32_t)(t + (size_t)l);
+                    else R->listed = 0;
+                }
+                if (round ? !folds(F->P, F->N, D, v, NULL) : !(m >> l & 1)) continue;
+                /* a folded triangle's vertices: changed, and flagged once */
+                for (int k = 0; k < 3; k++) {
+                    fresh += !changed[v[k]];
+                    changed[v[k]] = 1;
+                    if (!flag[v[k]]) {
+                        flag[v[k]] = 1;
+                        R->hit[nh++] = v[k];
+                    }
+                }
+                folded++;
+            }
+        }
+        if (!folded) {
+            /* watch lists every triangle with a changed vertex unless it
+             * overflowed (none changed when the first round ends it) */
+            if (all && round) R->listed = 0;
+            break;
+        }
+        for (size_t h = 0; h < nh; h++) {
+            D[R->hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[R->hit[h]] : 0.0f;
+            flag[R->hit[h]] = 0;
+        }
+        if (!fresh) continue;
+        R->nw = 0, all = 0; /* too many to list: every triangle */
+        for (size_t t = 0; t < nt && !all; t++)
+            if (changed[idx[3 * t]] | changed[idx[3 * t + 1]] | changed[idx[3 * t + 2]]) {
+                if (R->nw == R->capw) all = 1;
+                else R->watch[R->nw++] = (uint32_t)t;
+            }
+    }
+    jm_free(mem, F->bits, (nw + 1) * sizeof *F->bits);
+    F->bits = NULL;
+    return 1;
+}
+
+int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt,
+                   int compensate, int facing, float max_sag)
 {
     /* per vertex: sag * area, area; then each vertex's offset D; the
-     * first nv bytes are the flags of the fold rounds and of the facing */
+     * first nv bytes are the flags of the fold rounds and of the facing,
+     * the next nv those of the vertices changed by them */
     float *acc = jm_alloc(mem, (3 * nv + 1) * sizeof(float));
     if (!acc) return 0;
-    float *A = acc, *D = acc + 2 * nv;
-    const float *P = pos, *N = nrm;
-    /* each triangle's normal (x2 area) in 4 floats, replaced by the first
-     * fold round with its moved one: where none of its vertices moves again
-     * (not changed), the facing test's */
-    float *C = NULL;
-    const size_t csz = compensate ? 4 * (nt + 1) * sizeof *C : 0;
-    uint8_t *changed = (uint8_t *)acc + nv;
-    uint32_t *watch = NULL, *awl = NULL;
-    size_t capw = 0, nw = 0, na = 0;
-    int listed = 1;
-    if (compensate) {
-        C = jm_alloc(mem, csz);
-        if (!C) {
-            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-            return 0;
-        }
-        memset(A, 0, 2 * nv * sizeof(float));
-        /* 16 triangles a pass where the CPU can (metafinish16.c: the same
-         * bits), their sums added in the same order */
-        const int wide = jm_finish16_ok();
-        size_t t0 = 0;
-        for (; wide && t0 + 16 <= nt; t0 += 16) {
-            float as[16], area[16];
-            jm_finish_sag16(P, N, idx, t0, C, as, area);
-            for (int l = 0; l < 16; l++) {
-                const uint32_t *vi = idx + 3 * (t0 + l);
-                for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as[l], area[l]);
-            }
-        }
-        for (size_t t = t0; t < nt; t++) {
-            const uint32_t *vi = idx + 3 * t;
-            float len;
-            const float sag = tri_sag(P, N, vi, &len, C + 4 * t);
-            const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
-            for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as, area);
-        }
-        for (size_t i = 0; i < nv; i++) {
-            float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
-            /* where the normals turn across a triangle more than a curved
-             * surface could (creases and folds finer than the cubes), the
-             * estimate means nothing: at most a tenth of a cube */
-            D[i] = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
-        }
-        /* No triangle folds over: a triangle whose normal, its vertices
-         * moved, would point against its own before has its vertices' offsets
-         * halved (zeroed after FOLD_HALVINGS rounds), until none does. Each
-         * zeroing round zeroes a vertex of every folded triangle and a
-         * triangle of unmoved vertices is not folded, so the rounds end.
-         * After the first round (every triangle), a round looks only at the
-         * triangles with a vertex whose offset has changed: the others keep
-         * the offsets with which that round found them not folded. */
-        /* The triangles of the rounds after the first (watch: those with a
-         * changed vertex, in any order: a round's result does not depend on
-         * it) and those the first found with a corner not facing it (awl:
-         * the first round's moved normal is the facing test's where no
-         * vertex changes after it); the vertices a round flags (hit). */
-        uint8_t *flag = (uint8_t *)acc;
-        capw = FINISH_LIST(nt);
-        watch = jm_alloc(mem, (2 * capw + nv) * sizeof *watch);
-        if (!watch) {
-            jm_free(mem, C, csz);
-            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-            return 0;
-        }
-        awl = watch + capw;
-        uint32_t *const hit = awl + capw;
-        memset(changed, 0, nv);
-        memset(flag, 0, nv);
-        for (int round = 0, all = 1;; round++) {
-            size_t folded = 0, fresh = 0, nh = 0;
-            const size_t count = all ? nt : nw;
-            /* a folded triangle's vertices: changed, and flagged once */
-#define FOLDED(v)                                  \
-    do {                                           \
-        for (int k = 0; k < 3; k++) {              \
-            fresh += !changed[(v)[k]];             \
-            changed[(v)[k]] = 1;                   \
-            if (!flag[(v)[k]]) {                   \
-                flag[(v)[k]] = 1;                  \
-                hit[nh++] = (v)[k];                \
-            }                                      \
-        }                                          \
-        folded++;                                  \
-    } while (0)
-            size_t j = 0;
-            /* the first round: 16 triangles a pass where the CPU can
-             * (metafinish16.c: the same bits), then each flagged one in
-             * order as below */
-            for (; round == 0 && wide && j + 16 <= count; j += 16) {
-                const uint32_t m = jm_finish_fold16(P, N, D, idx, j, C, facing);
-                for (uint32_t any = (m | m >> 16) & 0xffffu; any; any &= any - 1) {
-                    const int l = __builtin_ctz(any);
-                    const size_t t = j + (size_t)l;
-                    if (m >> (16 + l) & 1) {
-                        if (na < capw) awl[na++] = (uint32_t)t;
-                        else listed = 0;
-                    }
-                    if (m >> l & 1) FOLDED(idx + 3 * t);
-                }
-            }
-            for (; j < count; j++) {
-                const size_t t = all ? j : watch[j];
-                const uint32_t *v = idx + 3 * t;
-                int f;
-                if (round) f = folds(P, N, D, v, NULL);
-                else {
-                    f = folds(P, N, D, v, C + 4 * t);
-                    if (facing && stored_away(N, v, C + 4 * t)) {
-                        if (na < capw) awl[na++] = (uint32_t)t;
-                        else listed = 0;
-                    }
-                }
-                if (f) FOLDED(v);
-            }
-#undef FOLDED
-            if (!folded) {
-                /* watch lists every triangle with a changed vertex unless
-                 * it overflowed (none changed when the first round ends it) */
-                if (all && round) listed = 0;
-                break;
-            }
-            for (size_t h = 0; h < nh; h++) {
-                D[hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[hit[h]] : 0.0f;
-                flag[hit[h]] = 0;
-            }
-            if (!fresh) continue;
-            nw = 0, all = 0; /* too many to list: every triangle */
-            for (size_t t = 0; t < nt && !all; t++)
-                if (changed[idx[3 * t]] | changed[idx[3 * t + 1]] | changed[idx[3 * t + 2]]) {
-                    if (nw == capw) all = 1;
-                    else watch[nw++] = (uint32_t)t;
-                }
-        }
-        for (size_t i = 0; i < nv; i++)
-            for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
-    }
+    float *D = acc + 2 * nv;
+    uint8_t *flag = (uint8_t *)acc, *changed = (uint8_t *)acc + nv;
+    /* 16 triangles a pass where the CPU can (metafinish16.c), else 8
+     * (metafinish8.c): the same bits as one at a time */
+    fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, NULL,
+             NULL};
+    const size_t csz = compensate ? 4 * (nt + 1) * sizeof(float) : 0;
+    rounds R = {NULL, NULL, NULL, FINISH_LIST(nt), 0, 0, 1};
     int ok = 1;
-    if (facing) {
+    if (compensate) {
+        F.C = jm_alloc(mem, csz);
+        R.watch = jm_alloc(mem, (2 * R.capw + nv) * sizeof *R.watch);
+        ok = F.C && R.watch;
+        if (ok) {
+            R.awl = R.watch + R.capw;
+            R.hit = R.awl + R.capw;
+            ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, flag, nv, &R);
+        }
+        if (ok)
+            for (size_t i = 0; i < nv; i++)
+                for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * nrm[3 * i + a];
+    }
+    if (ok && facing) {
         /* every triangle's facing at the moved positions: where the rounds
          * listed them, those the first round found away and are unchanged
          * (the others, unchanged, face) and those with a changed vertex */
-        uint8_t *flag = (uint8_t *)acc;
         size_t bad;
         memset(flag, 0, nv);
-        if (compensate && listed)
-            bad = flag_away(pos, nrm, idx, awl, na, flag, C, changed) +
-                  flag_away(pos, nrm, idx, watch, nw, flag, NULL, changed);
-        else bad = flag_away(pos, nrm, idx, NULL, nt, flag, C, changed);
+        if (compensate && R.listed)
+            bad = flag_away(pos, nrm, idx, R.awl, R.na, flag, F.C, changed) +
+                  flag_away(pos, nrm, idx, R.watch, R.nw, flag, NULL, changed);
+        else bad = flag_away(pos, nrm, idx, NULL, nt, flag, F.C, changed);
         ok = face_normals(mem, pos, nrm, nv, idx, nt, flag, bad);
     }
-    jm_free(mem, watch, (2 * capw + nv) * sizeof *watch);
-    jm_free(mem, C, csz);
+    jm_free(mem, R.watch, (2 * R.capw + nv) * sizeof *R.watch);
+    jm_free(mem, F.C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
     return ok;
 }

@@ -3,8 +3,9 @@
 #include "cpu.h"
 #include <stdatomic.h>
 
-static atomic_int enabled = 1;
-void jm_finish16_enable(int on) { atomic_store(&enabled, on != 0); }
+static atomic_int width = 16;
+void jm_finish_set_width(int lanes) { atomic_store(&width, lanes); }
+int jm_finish_width(void) { return atomic_load(&width); }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -13,7 +14,7 @@ int jm_finish16_ok(void)
 {
     /* the 128-bit masked loads are AVX-512VL (every AVX-512 CPU but the
      * Xeon Phi has it) */
-    return atomic_load(&enabled) && jm_cpu_avx512() && __builtin_cpu_supports("avx512vl");
+    return jm_finish_width() >= 16 && jm_cpu_avx512() && __builtin_cpu_supports("avx512vl");
 }
 
 /* Four triangles a register, one a 128-bit lane laid out as metafinish.c's

@@ -1,4 +1,4 @@
-/* metafinish16.h - the metasphere finish's per-triangle kernels, 16 triangles per AVX-512 pass, with the bits of metafinish.c's one-at-a-time ones. */
+/* metafinish16.h - the metasphere finish's per-triangle kernels, 16 triangles per AVX-512 pass (8 per AVX2 pass), with the bits of metafinish.c's one-at-a-time ones. */
 #ifndef JETMESH_METAFINISH16_H
 #define JETMESH_METAFINISH16_H
 #include <stddef.h>
@@ -28,7 +28,17 @@ void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx, size_t
 uint32_t jm_finish_fold16(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, float *C,
                           int facing);
 
-/* Tests only (tests/test_simd_pairs.c): 0 turns the kernels off, so that
- * jm_meta_finish runs its one-at-a-time code; 1 (the default) on again. */
-void jm_finish16_enable(int on);
+/* The same two kernels on 8 triangles, two a 256-bit register
+ * (metafinish8.c), where jm_finish8_ok(): the CPU has AVX2. */
+int jm_finish8_ok(void);
+void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, size_t t0, float *C, float *as,
+                    float *area);
+uint32_t jm_finish_fold8(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, float *C,
+                         int facing);
+
+/* Tests only (tests/test_simd_pairs.c): the widest kernels jm_meta_finish
+ * may run, 16 (the default), 8 (AVX2's, not AVX-512's) or 1 (its
+ * one-at-a-time code); jm_finish_width() the setting. */
+void jm_finish_set_width(int lanes);
+int jm_finish_width(void);
 #endif
