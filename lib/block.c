@@ -101,7 +101,7 @@ static int grow(jm_mem *mem, void **p, size_t *cap, size_t need, size_t width)
     if (need <= *cap) return 1;
     size_t nc = *cap ? *cap : 256;
     while (nc < need) nc *= 2;
-    void *q = jm_realloc(mem, *p, *cap * width, nc * width);
+    void *q = jm_realloc_lasting(mem, *p, *cap * width, nc * width);
     if (!q) return 0;
     *p = q;
     *cap = nc;
@@ -112,19 +112,19 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
 {
     if (o->nv < o->capv) return 1;
     size_t nc = o->capv ? o->capv * 2 : 256;
-    float *p = jm_realloc(mem, o->pos, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+    float *p = jm_realloc_lasting(mem, o->pos, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
     if (p) o->pos = p;
-    float *n = p ? jm_realloc(mem, o->nrm, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float)) : NULL;
+    float *n = p ? jm_realloc_lasting(mem, o->nrm, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float)) : NULL;
     if (n) o->nrm = n;
-    float *u = n ? jm_realloc(mem, o->uv, o->capv * 2 * sizeof(float), nc * 2 * sizeof(float)) : NULL;
+    float *u = n ? jm_realloc_lasting(mem, o->uv, o->capv * 2 * sizeof(float), nc * 2 * sizeof(float)) : NULL;
     if (u) o->uv = u;
-    uint32_t *cd = u ? jm_realloc(mem, o->cand, o->capv * 2 * sizeof(uint32_t), nc * 2 * sizeof(uint32_t)) : NULL;
+    uint32_t *cd = u ? jm_realloc_lasting(mem, o->cand, o->capv * 2 * sizeof(uint32_t), nc * 2 * sizeof(uint32_t)) : NULL;
     if (cd) o->cand = cd;
     if (!p || !n || !u || !cd) {
         /* keep the accounting right: shrink back what did grow */
-        if (p) o->pos = jm_realloc(mem, o->pos, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
-        if (n) o->nrm = jm_realloc(mem, o->nrm, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
-        if (u) o->uv = jm_realloc(mem, o->uv, nc * 2 * sizeof(float), o->capv * 2 * sizeof(float));
+        if (p) o->pos = jm_realloc_lasting(mem, o->pos, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        if (n) o->nrm = jm_realloc_lasting(mem, o->nrm, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        if (u) o->uv = jm_realloc_lasting(mem, o->uv, nc * 2 * sizeof(float), o->capv * 2 * sizeof(float));
         return 0;
     }
     o->capv = nc;
@@ -171,7 +171,7 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
     S = S < 1 ? 1 : (S > 4 ? 4 : S);
     const size_t nv = out->nv;
     if (nv > s->cap_order) {
-        uint32_t *o = jm_realloc(s->hood.mem, s->order, s->cap_order * sizeof *o, nv * sizeof *o);
+        uint32_t *o = jm_realloc_lasting(s->hood.mem, s->order, s->cap_order * sizeof *o, nv * sizeof *o);
         if (!o) return 0;
         s->order = o;
         s->cap_order = nv;

@@ -66,6 +66,11 @@ typedef struct jm_block_env {
 int jm_scratch_init(jm_scratch *s, int B);
 size_t jm_scratch_bytes(int B); /* heap bytes of one scratch */
 void jm_scratch_free(jm_scratch *s);
+/* After a frame's blocks (n workers' scratch s): every growing buffer
+ * grown to the largest any worker needed (scratch_even.c), so that the
+ * next frame, its blocks no larger, allocates nothing whichever worker
+ * takes which block. 0 if out of memory (the buffers stay valid). */
+int jm_scratch_even(jm_scratch *s, int n);
 void jm_bout_reset(jm_bout *o);
 void jm_bout_free(jm_bout *o, jm_mem *mem);
 

@@ -18,7 +18,7 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
         total *= (size_t)hood->n[a];
     }
     if (total > hood->cap) {
-        uint32_t *r = jm_realloc(hood->mem, hood->range, 2 * hood->cap * sizeof *r, 2 * total * sizeof *r);
+        uint32_t *r = jm_realloc_lasting(hood->mem, hood->range, 2 * hood->cap * sizeof *r, 2 * total * sizeof *r);
         if (!r) return 0;
         hood->range = r;
         hood->cap = total;

@@ -5,6 +5,8 @@
 #include "metavertex.h"
 #include "units.h"
 #include "grow.h"
+#include "keep.h"
+#include "sort.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -113,6 +115,12 @@ jm_status jm_context_create(const jm_params *params, jm_context **out_ctx)
     if (!params) return JM_E_INVALID_ARGUMENT;
     jm_context *ctx = calloc(1, sizeof *ctx);
     if (!ctx) return JM_E_OUT_OF_MEMORY;
+    /* freed working memory kept for the next frames (keep.h) */
+    ctx->mem.keep = jm_keep_create();
+    if (!ctx->mem.keep) {
+        free(ctx);
+        return JM_E_OUT_OF_MEMORY;
+    }
     jm_status st = jm_context_set_params(ctx, params);
     if (st != JM_OK) {
         jm_context_free(ctx);
@@ -156,6 +164,7 @@ void jm_context_free(jm_context *ctx)
     free_indices(ctx);
     jm_post_scratch_free(&ctx->post, &ctx->mem);
     jm_pool_free(ctx->pool);
+    jm_keep_destroy(ctx->mem.keep);
     free(ctx);
 }
 
@@ -378,11 +387,8 @@ static void template_task(void *arg, size_t k, int worker)
     for (size_t t = 0; t < ctx->t_ni; t++) dst[t] = (uint32_t)(v0 + ctx->t_idx[t]);
 }
 
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
+static inline int u64_less(const uint64_t *a, const uint64_t *b) { return *a < *b; }
+JM_SORT_DEFINE(sort_u64, uint64_t, u64_less)
 
 /* Working memory estimate for a frame of n particles, links metasphere
  * neck links (24 bytes each: jm_grid's nb, nb_owner, nb_dir) and nblocks
@@ -477,7 +483,7 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
     for (size_t s = 0; s < set.cap; s++)
         if (set.keys[s] != JM_HASH_EMPTY) bs->key[k++] = set.keys[s];
     jm_hashmap_free(&set, mem);
-    if (bs->count > 1) qsort(bs->key, bs->count, sizeof *bs->key, cmp_u64);
+    sort_u64(bs->key, bs->count); /* distinct */
     st = jm_hashmap_init(&bs->map, mem, bs->count + 1);
     if (st != JM_OK) return st;
     for (size_t i = 0; i < bs->count; i++) *jm_hashmap_upsert(&bs->map, bs->key[i]) = (uint32_t)i;
@@ -495,8 +501,9 @@ static jm_status ensure_scratch(jm_context *ctx)
 {
     if (ctx->nscratch == ctx->threads && ctx->scratch && ctx->scratch[0].B == ctx->cfg.block) return JM_OK;
     drop_scratch(ctx);
-    ctx->scratch = jm_calloc(&ctx->mem, (size_t)ctx->threads, sizeof *ctx->scratch);
+    ctx->scratch = jm_alloc_lasting(&ctx->mem, (size_t)ctx->threads * sizeof *ctx->scratch);
     if (!ctx->scratch) return JM_E_OUT_OF_MEMORY;
+    memset(ctx->scratch, 0, (size_t)ctx->threads * sizeof *ctx->scratch);
     ctx->scratch_cap = (size_t)ctx->threads;
     for (int i = 0; i < ctx->threads; i++) {
         /* counted against the limit before it is taken */
@@ -583,7 +590,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     job.nbmap = jm_calloc(mem, nb, sizeof *job.nbmap);
     size_t slots = (size_t)ctx->threads * 32;
     if (ctx->nbouts < slots) {
-        jm_bout *b = jm_realloc(mem, ctx->bouts, ctx->nbouts * sizeof *b, slots * sizeof *b);
+        jm_bout *b = jm_realloc_lasting(mem, ctx->bouts, ctx->nbouts * sizeof *b, slots * sizeof *b);
         if (b) {
             memset(b + ctx->nbouts, 0, (slots - ctx->nbouts) * sizeof *b);
             ctx->bouts = b;
@@ -665,6 +672,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         }
         t_stitch += jm_now_ms() - ta1;
     }
+    /* (a failure only costs the next frame an allocation) */
+    (void)jm_scratch_even(ctx->scratch, ctx->nscratch);
     double t2 = jm_now_ms();
     /* stitch: pending references to vertices owned by later blocks */
     jm_pool_run(ctx->pool, job.npend, 4096, resolve_task, &job);
@@ -792,9 +801,9 @@ static jm_status make_template(jm_context *ctx)
     jm_status s = run(ctx, &c, &one, &ignore);
     if (s != JM_OK) return s;
     jm_mem *mem = &ctx->mem;
-    ctx->t_pos = jm_alloc(mem, ctx->nv * 3 * sizeof(float));
-    ctx->t_nrm = jm_alloc(mem, ctx->nv * 3 * sizeof(float));
-    ctx->t_idx = jm_alloc(mem, ctx->ni * sizeof(uint32_t));
+    ctx->t_pos = jm_alloc_lasting(mem, ctx->nv * 3 * sizeof(float));
+    ctx->t_nrm = jm_alloc_lasting(mem, ctx->nv * 3 * sizeof(float));
+    ctx->t_idx = jm_alloc_lasting(mem, ctx->ni * sizeof(uint32_t));
     ctx->t_nv = ctx->nv;
     ctx->t_ni = ctx->ni;
     if (!ctx->t_pos || !ctx->t_nrm || !ctx->t_idx) { drop_template(ctx); return JM_E_OUT_OF_MEMORY; }

@@ -32,13 +32,25 @@ static int reserve(jm_mnorm *m, size_t n)
     if (n <= m->cap) return 1;
     size_t nc = m->cap ? 2 * m->cap : 1024;
     while (nc < n) nc *= 2;
-    float *a = jm_alloc(m->mem, nc * PER_VERTEX);
+    float *a = jm_alloc_lasting(m->mem, nc * PER_VERTEX);
     if (!a) return 0;
     jm_free(m->mem, m->acc, m->cap * PER_VERTEX);
     m->acc = a;
     m->sub = a + 3 * nc;
     m->moved = (uint32_t *)(a + 9 * nc);
     m->cap = nc;
+    return 1;
+}
+
+int jm_mnorm_match(jm_mnorm *m, const jm_mnorm *o)
+{
+    if (!reserve(m, o->cap)) return 0;
+    if (o->capvisit > m->capvisit) {
+        jm_visit *b = jm_realloc_lasting(m->mem, m->visit, m->capvisit * sizeof *b, o->capvisit * sizeof *b);
+        if (!b) return 0;
+        m->visit = b;
+        m->capvisit = o->capvisit;
+    }
     return 1;
 }
 
@@ -65,7 +77,7 @@ static void record(jm_mnorm *m, const int lo[3], const int hi[3], const float *q
     if (!m || !m->visits) return;
     if (m->nvisit == m->capvisit) {
         size_t nc = m->capvisit ? 2 * m->capvisit : 256;
-        jm_visit *b = jm_realloc(m->mem, m->visit, m->capvisit * sizeof *b, nc * sizeof *b);
+        jm_visit *b = jm_realloc_lasting(m->mem, m->visit, m->capvisit * sizeof *b, nc * sizeof *b);
         if (!b) {
             m->visits = 0;
             return;

@@ -35,7 +35,7 @@ static int grow_all(jm_mem *m, void **a[], const size_t *esz, int k, size_t oldn
 {
     void *nw[5];
     for (int i = 0; i < k; i++) {
-        nw[i] = jm_alloc(m, newn * esz[i]);
+        nw[i] = jm_alloc_lasting(m, newn * esz[i]);
         if (!nw[i]) {
             for (int j = 0; j < i; j++) jm_free(m, nw[j], newn * esz[j]);
             return 0;
@@ -89,10 +89,23 @@ static int reserve(jm_probe *pr, size_t n, size_t parts)
     }
     /* the parts' starts, then four counts (cursors) per part */
     if (5 * parts + 1 > pr->capp) {
-        uint32_t *q = jm_realloc(pr->mem, pr->pstart, pr->capp * sizeof *q, (5 * parts + 1) * sizeof *q);
+        uint32_t *q = jm_realloc_lasting(pr->mem, pr->pstart, pr->capp * sizeof *q, (5 * parts + 1) * sizeof *q);
         if (!q) return 0;
         pr->pstart = q;
         pr->capp = 5 * parts + 1;
+    }
+    return 1;
+}
+
+int jm_probe_match(jm_probe *pr, const jm_probe *o)
+{
+    if (o->cap > pr->cap && !jm_probe_grow(pr, o->cap - 1)) return 0;
+    if (o->capw > pr->capw && !reserve(pr, o->capw, 0)) return 0;
+    if (o->capp > pr->capp) {
+        uint32_t *q = jm_realloc_lasting(pr->mem, pr->pstart, pr->capp * sizeof *q, o->capp * sizeof *q);
+        if (!q) return 0;
+        pr->pstart = q;
+        pr->capp = o->capp;
     }
     return 1;
 }

@@ -91,6 +91,8 @@ static inline int jm_probe_add(jm_probe *pr, size_t v, uint32_t slot, uint32_t p
     return 1;
 }
 void jm_probe_free(jm_probe *pr);
+/* pr's capacities grown to at least o's (0 if out of memory). */
+int jm_probe_match(jm_probe *pr, const jm_probe *o);
 
 /* The block's vertices (nv of them: pos, the edge pieces cand; B cubes a
  * side with node coordinates x, y, z and node
