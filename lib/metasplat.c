@@ -7,12 +7,12 @@
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
 /* Both pieces are splatted in runs of 4 nodes (AVX2: 8) from the start of
- * their span (the last run shifted back to end at the row's end; n >= 9):
- * a node past the span but in the run gets a value no greater than what it
- * holds (beyond a ball's reach the ball is under the floor; beyond a
- * half-neck's box the neck is under its own ball, and off its axis span it
- * is masked), so the runs change nothing but speed. Every path does the
- * same float operations in the same order: the same bits. */
+ * their span (the last run shifted back to end at the row's end; n >= 9),
+ * the nodes of a run past the span masked: beyond a ball's reach the ball
+ * is under the floor and beyond a half-neck's box the neck under its own
+ * ball, but only to rounding (at a neck's end, across its axis, the two are
+ * equal), so an unmasked run's width would decide a few ties. Every path
+ * does the same float operations in the same order: the same bits. */
 #ifndef JM_SPLAT_VARIANT
 #define JM_SPLAT_VARIANT 0
 #endif
@@ -26,25 +26,29 @@ typedef __m128 vf;
 #define VMUL _mm_mul_ps
 #define VSQRT _mm_sqrt_ps
 #define VMAX0(x) _mm_max_ps(x, _mm_setzero_ps()) /* x > 0 ? x : 0 (NaN-free here) */
-/* row, wrow = v, id where v > row */
-static inline __attribute__((always_inline)) void keep_max(float *row, uint32_t *wrow, vf v, uint32_t id)
+/* row, wrow = v, id where v > row, for the nodes a .. a + 3 within [i0, i1) */
+static inline __attribute__((always_inline)) void keep_max(float *row, uint32_t *wrow, vf v, uint32_t id, int a,
+                                                           int i0, int i1)
 {
-    vf old = _mm_loadu_ps(row), m = _mm_cmpgt_ps(v, old);
+    const __m128i k = _mm_add_epi32(_mm_set1_epi32(a), _mm_setr_epi32(0, 1, 2, 3));
+    const __m128 in = _mm_castsi128_ps(
+        _mm_and_si128(_mm_cmpgt_epi32(k, _mm_set1_epi32(i0 - 1)), _mm_cmplt_epi32(k, _mm_set1_epi32(i1))));
+    vf old = _mm_loadu_ps(row), m = _mm_and_ps(_mm_cmpgt_ps(v, old), in);
     _mm_storeu_ps(row, _mm_or_ps(_mm_and_ps(m, v), _mm_andnot_ps(m, old)));
     __m128i w = _mm_loadu_si128((const __m128i *)wrow), mi = _mm_castps_si128(m);
     __m128i idv = _mm_set1_epi32((int)id);
     _mm_storeu_si128((__m128i *)wrow, _mm_or_si128(_mm_and_si128(mi, idv), _mm_andnot_si128(mi, w)));
 }
 static inline __attribute__((always_inline)) void ball_run4(float *row, uint32_t *wrow, const float *x, float qx,
-                                                            float dyz2, float inv_r, uint32_t id)
+                                                            float dyz2, float inv_r, uint32_t id, int a, int i0, int i1)
 {
     vf dx = VSUB(VLD(x), V1(qx));
     vf v = VSUB(V1(1.0f), VMUL(VSQRT(VADD(VMUL(dx, dx), V1(dyz2))), V1(inv_r)));
-    keep_max(row, wrow, v, id);
+    keep_max(row, wrow, v, id, a, i0, i1);
 }
 static inline __attribute__((always_inline)) void neck_run4(float *row, uint32_t *wrow, const float *x, float qx,
                                                             float u0, float syz, float wyz2, float half, float inv_r,
-                                                            float floor_v, uint32_t id)
+                                                            float floor_v, uint32_t id, int a, int i0, int i1)
 {
     vf wx = VSUB(VLD(x), V1(qx));
     vf s = VADD(VMUL(wx, V1(u0)), V1(syz));
@@ -59,28 +63,29 @@ static inline __attribute__((always_inline)) void neck_run4(float *row, uint32_t
     vf v = VSUB(cs, VMUL(VSQRT(VMAX0(q2)), V1(inv_r)));
     vf ok = _mm_and_ps(_mm_cmpge_ps(s, _mm_setzero_ps()), _mm_cmple_ps(s, V1(half)));
     v = _mm_or_ps(_mm_and_ps(ok, v), _mm_andnot_ps(ok, V1(floor_v)));
-    keep_max(row, wrow, v, id);
+    keep_max(row, wrow, v, id, a, i0, i1);
 }
 #else
-static inline void keep_max(float *row, uint32_t *wrow, const float *v, uint32_t id)
+static inline void keep_max(float *row, uint32_t *wrow, const float *v, uint32_t id, int a, int i0, int i1)
 {
     for (int l = 0; l < 4; l++) {
-        int m = v[l] > row[l];
+        int m = v[l] > row[l] && a + l >= i0 && a + l < i1;
         row[l] = m ? v[l] : row[l];
         wrow[l] = m ? id : wrow[l];
     }
 }
-static inline void ball_run4(float *row, uint32_t *wrow, const float *x, float qx, float dyz2, float inv_r, uint32_t id)
+static inline void ball_run4(float *row, uint32_t *wrow, const float *x, float qx, float dyz2, float inv_r, uint32_t id,
+                             int a, int i0, int i1)
 {
     float v[4];
     for (int l = 0; l < 4; l++) {
         float dx = x[l] - qx;
         v[l] = 1.0f - sqrtf(dx * dx + dyz2) * inv_r;
     }
-    keep_max(row, wrow, v, id);
+    keep_max(row, wrow, v, id, a, i0, i1);
 }
 static inline void neck_run4(float *row, uint32_t *wrow, const float *x, float qx, float u0, float syz, float wyz2,
-                             float half, float inv_r, float floor_v, uint32_t id)
+                             float half, float inv_r, float floor_v, uint32_t id, int a, int i0, int i1)
 {
     float v[4];
     for (int l = 0; l < 4; l++) {
@@ -90,7 +95,7 @@ static inline void neck_run4(float *row, uint32_t *wrow, const float *x, float q
         float t = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
         v[l] = s >= 0.0f && s <= half ? t : floor_v;
     }
-    keep_max(row, wrow, v, id);
+    keep_max(row, wrow, v, id, a, i0, i1);
 }
 #endif
 
@@ -125,28 +130,35 @@ static void first_touch(float *f, uint32_t *win, uint8_t *rows, int n, int k, in
 #define MS_NECK neck_run4
 #include "metasplat_rows.h"
 
-#if defined(__x86_64__) && defined(__GNUC__) && JM_SPLAT_VARIANT == 0
+/* where jm_cpu_avx2() (not in the plain C and SSE2 test variants) */
+#if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define HAVE_SPLAT8 1
 #define AVX2 __attribute__((target("avx2")))
 /* the runs of 4 above on 8 lanes: the same operations lane by lane */
-AVX2 static inline __attribute__((always_inline)) void keep_max8(float *row, uint32_t *wrow, __m256 v, uint32_t id)
+AVX2 static inline __attribute__((always_inline)) void keep_max8(float *row, uint32_t *wrow, __m256 v, uint32_t id,
+                                                                 int a, int i0, int i1)
 {
-    const __m256 old = _mm256_loadu_ps(row), m = _mm256_cmp_ps(v, old, _CMP_GT_OQ);
+    const __m256i k = _mm256_add_epi32(_mm256_set1_epi32(a), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256 in = _mm256_castsi256_ps(_mm256_and_si256(_mm256_cmpgt_epi32(k, _mm256_set1_epi32(i0 - 1)),
+                                                           _mm256_cmpgt_epi32(_mm256_set1_epi32(i1), k)));
+    const __m256 old = _mm256_loadu_ps(row), m = _mm256_and_ps(_mm256_cmp_ps(v, old, _CMP_GT_OQ), in);
     _mm256_storeu_ps(row, _mm256_blendv_ps(old, v, m));
     const __m256 w = _mm256_loadu_ps((const float *)wrow);
     _mm256_storeu_ps((float *)wrow, _mm256_blendv_ps(w, _mm256_castsi256_ps(_mm256_set1_epi32((int)id)), m));
 }
 AVX2 static inline __attribute__((always_inline)) void ball_run8(float *row, uint32_t *wrow, const float *x, float qx,
-                                                                 float dyz2, float inv_r, uint32_t id)
+                                                                 float dyz2, float inv_r, uint32_t id, int a, int i0,
+                                                                 int i1)
 {
     const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(x), _mm256_set1_ps(qx));
     const __m256 d = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_set1_ps(dyz2)));
-    keep_max8(row, wrow, _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(d, _mm256_set1_ps(inv_r))), id);
+    keep_max8(row, wrow, _mm256_sub_ps(_mm256_set1_ps(1.0f), _mm256_mul_ps(d, _mm256_set1_ps(inv_r))), id, a, i0, i1);
 }
 AVX2 static inline __attribute__((always_inline)) void neck_run8(float *row, uint32_t *wrow, const float *x, float qx,
                                                                  float u0, float syz, float wyz2, float half,
-                                                                 float inv_r, float floor_v, uint32_t id)
+                                                                 float inv_r, float floor_v, uint32_t id, int a,
+                                                                 int i0, int i1)
 {
 #define B8 _mm256_set1_ps
     const __m256 wx = _mm256_sub_ps(_mm256_loadu_ps(x), B8(qx));
@@ -162,7 +174,7 @@ AVX2 static inline __attribute__((always_inline)) void neck_run8(float *row, uin
     const __m256 ok = _mm256_and_ps(_mm256_cmp_ps(s, _mm256_setzero_ps(), _CMP_GE_OQ), _mm256_cmp_ps(s, B8(half), _CMP_LE_OQ));
     v = _mm256_blendv_ps(B8(floor_v), v, ok);
 #undef B8
-    keep_max8(row, wrow, v, id);
+    keep_max8(row, wrow, v, id, a, i0, i1);
 }
 #define MS_W 8
 #define MS_NAME splat8

@@ -38,7 +38,7 @@ MS_ATTR static void MS_NAME(const jm_grid *g, const jm_config *c, const jm_hood 
                     MS_ROW(kk, jj, row, wrow)
                     for (int s0 = i0; s0 < i1; s0 += MS_W) {
                         const int a = s0 < n - MS_W ? s0 : n - MS_W;
-                        MS_BALL(row + a, wrow + a, x + a, qx, dyz2, inv_r, p);
+                        MS_BALL(row + a, wrow + a, x + a, qx, dyz2, inv_r, p, a, i0, i1);
                     }
                 }
             }
@@ -70,7 +70,7 @@ MS_ATTR static void MS_NAME(const jm_grid *g, const jm_config *c, const jm_hood 
                         float syz = wy * u[1] + wz * u[2], wyz2 = wy * wy + wz * wz;
                         for (int s0 = i0; s0 < i1; s0 += MS_W) {
                             const int a = s0 < n - MS_W ? s0 : n - MS_W;
-                            MS_NECK(row + a, wrow + a, x + a, qx, u[0], syz, wyz2, half, inv_r, floor_v, np + e);
+                            MS_NECK(row + a, wrow + a, x + a, qx, u[0], syz, wyz2, half, inv_r, floor_v, np + e, a, i0, i1);
                         }
                     }
                 }
