@@ -69,6 +69,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->an_list.buf);
     free(s->an_cand.idx);
     jm_probe_free(&s->probe);
+    jm_roots_free(&s->roots);
     jm_mnorm_free(&s->mnorm);
     free(s->part);
     free(s->span);
@@ -291,12 +292,32 @@ static uint32_t row_configs(const uint8_t *i00, const uint8_t *i10, const uint8_
 }
 #endif
 
+/* The block's metasphere vertices on their edges (metaroot.c): each root
+ * for jm_meta_probe (its point, pt), the vertex kept from the nodes */
+static void meta_roots(const jm_grid *g, const jm_config *c, jm_scratch *s, jm_bout *out)
+{
+    jm_roots *r = &s->roots;
+    jm_roots_solve(g, c, r);
+    for (size_t v = 0; v < r->n; v++) {
+        const float tt = r->t[v], tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+        const float a[3] = {r->ax[v], r->ay[v], r->az[v]}, ab[3] = {r->bx[v], r->by[v], r->bz[v]};
+        float *pt = &s->probe.pt[3 * v], *p = &out->pos[3 * v];
+        s->probe.t[v] = tt;
+        for (int q = 0; q < 3; q++) {
+            pt[q] = a[q] + tt * ab[q];
+            p[q] = a[q] + tc * ab[q];
+        }
+    }
+    r->n = 0;
+}
+
 void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
 {
     const jm_config *c = env->c;
     const jm_grid *g = env->g;
     const jm_block_set *bs = env->blocks;
     jm_bout_reset(out);
+    s->roots.n = 0;
     const int B = s->B, n = B + 1;
     const uint64_t key = bs->key[b];
     const uint64_t mask = (uint64_t)JM_KEY_MAX - 1;
@@ -449,19 +470,20 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             float tt = (thr - fa) / (fb - fa);
                             uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL;
                             if (meta) {
+                                /* the root and the position once the
+                                 * block's edges are all found (metaroot.h) */
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = jm_meta_root(g, c, cv, a, ab, fa - thr, tt);
-                                /* for jm_meta_probe: the edge and the root */
-                                const float pt[3] = {a[0] + tt * ab[0], a[1] + tt * ab[1], a[2] + tt * ab[2]};
-                                if (!jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, pt)) {
+                                if (!jm_roots_add(&s->roots, a, ab, fa - thr, tt, cv) ||
+                                    !jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, a)) {
                                     out->failed = 1;
                                     goto done;
                                 }
+                            } else {
+                                float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+                                float *p = &out->pos[3 * out->nv];
+                                for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             }
-                            float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
-                            float *p = &out->pos[3 * out->nv];
-                            for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             /* fallback normal: along the edge, from inside to outside */
                             float sign = fa > thr ? 1.0f : -1.0f, inv = inv_len[dv[0] + dv[1] + dv[2]];
                             float *nr = &out->nrm[3 * out->nv];
@@ -507,6 +529,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
 done:
     for (size_t t = 0; t < s->ntouched; t++) s->vt[s->touched[t]] = UINT32_MAX;
     s->ntouched = 0;
+    if (meta && !out->failed) meta_roots(g, c, s, out);
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;

@@ -5,6 +5,7 @@
 #include "anisotropy.h"
 #include "metaprobe.h"
 #include "metanormal.h"
+#include "metaroot.h"
 
 /* What one block produced. Vertex refs in tri: an owned vertex's local index,
  * or JM_PENDING | k for the k-th (owner block, owner slot) pair in pend. */
@@ -42,6 +43,7 @@ typedef struct jm_scratch {
     size_t cap_order;
     jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
     jm_an_cand an_cand;       /* sph anisotropic: the kernels reaching the block */
+    jm_roots roots;           /* metasphere: the vertices' edges and pieces, solved at once */
     jm_probe probe;           /* metasphere: the vertices' edges, checked on every piece */
     jm_mnorm mnorm;           /* metasphere: the vertices' crease normals (metanormal.h) */
     float *part;              /* sph culling: (B+1)^2 * JM_PAD(B+1) partial sums (splat.h) */

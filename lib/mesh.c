@@ -520,7 +520,7 @@ static jm_status ensure_scratch(jm_context *ctx)
         }
         /* the buffers that grow with the blocks, counted as they grow */
         jm_scratch *sc = &ctx->scratch[i];
-        sc->hood.mem = sc->soa.mem = sc->an_list.mem = sc->probe.mem = sc->mnorm.mem = &ctx->mem;
+        sc->hood.mem = sc->soa.mem = sc->an_list.mem = sc->probe.mem = sc->mnorm.mem = sc->roots.mem = &ctx->mem;
         sc->an_cand.mem = &ctx->mem;
     }
     ctx->nscratch = ctx->threads;

@@ -28,7 +28,7 @@ int jm_scratch_even(jm_scratch *s, int n)
         if (w->an_list.cap > big.an_list.cap) big.an_list.cap = w->an_list.cap;
         if (w->an_cand.cap > big.an_cand.cap) big.an_cand.cap = w->an_cand.cap;
     }
-    /* and each worker's probe and normals to every other's */
+    /* and each worker's probe, normals and roots to every other's */
     int ok = 1;
     for (int i = 0; i < n && ok; i++) {
         jm_scratch *w = &s[i];
@@ -38,7 +38,9 @@ int jm_scratch_even(jm_scratch *s, int n)
              widen(w->an_list.mem, (void **)&w->an_list.buf, &w->an_list.cap, big.an_list.cap, 10 * sizeof(float)) &&
              widen(w->an_cand.mem, (void **)&w->an_cand.idx, &w->an_cand.cap, big.an_cand.cap, sizeof(uint32_t));
         for (int j = 0; j < n && ok; j++)
-            if (j != i) ok = jm_probe_match(&w->probe, &s[j].probe) && jm_mnorm_match(&w->mnorm, &s[j].mnorm);
+            if (j != i)
+                ok = jm_probe_match(&w->probe, &s[j].probe) && jm_mnorm_match(&w->mnorm, &s[j].mnorm) &&
+                     jm_roots_match(&w->roots, &s[j].roots);
     }
     return ok;
 }
