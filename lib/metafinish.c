@@ -227,8 +227,9 @@ static size_t flag_away(const float *restrict P, const float *restrict N, const 
  * and its normal is pushed toward those it fails (by their sum,
  * renormalised) until it faces all of them, keeping the best of a few steps
  * (a fan folded over itself may have no normal facing every triangle). */
-static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
-                        size_t nt, const uint8_t *flag, size_t bad)
+static size_t mark_triangles(jm_pool *pool, const uint32_t *idx, size_t nt, const uint8_t *mark, uint64_t *bits);
+static int face_normals(jm_mem *mem, jm_pool *pool, const float *restrict P, float *restrict N, size_t nv,
+                        const uint32_t *idx, size_t nt, const uint8_t *flag, size_t bad, uint64_t *tbits)
 {
     if (!bad) return 1;
     /* the flagged vertices' triangles: (slot, unit normal) for each corner
@@ -245,34 +246,36 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
             slot[i] = flag[i] ? (uint32_t)b : UINT32_MAX;
             if (flag[i]) who[b++] = (uint32_t)i;
         }
-        for (size_t t = 0; t < nt && ok; t++) {
-            const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-            if (!(flag[vi[0]] | flag[vi[1]] | flag[vi[2]])) continue;
-            const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
-            const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-            const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
-            float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2], e3[0] * e1[1] - e3[1] * e1[0]};
-            float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-            for (int a = 0; a < 3; a++) cr[a] = len > 0.0f ? cr[a] / len : 0.0f;
-            for (int k = 0; k < 3; k++) {
-                if (!flag[vi[k]]) continue;
-                if (np == cap) {
-                    float *q = jm_realloc(mem, pair, 3 * cap * sizeof *pair, 6 * cap * sizeof *pair);
-                    if (q) pair = q;
-                    uint32_t *u = q ? jm_realloc(mem, pslot, cap * sizeof *pslot, 2 * cap * sizeof *pslot) : NULL;
-                    if (!u) {
-                        if (q) pair = jm_realloc(mem, pair, 6 * cap * sizeof *pair, 3 * cap * sizeof *pair);
-                        ok = 0;
-                        break;
+        (void)mark_triangles(pool, idx, nt, flag, tbits);
+        for (size_t w = 0; w < (nt + 63) / 64 && ok; w++)
+            for (uint64_t tb = tbits[w]; tb && ok; tb &= tb - 1) {
+                const size_t t = 64 * w + (size_t)__builtin_ctzll(tb);
+                const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
+                const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+                const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+                const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+                float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2], e3[0] * e1[1] - e3[1] * e1[0]};
+                float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+                for (int a = 0; a < 3; a++) cr[a] = len > 0.0f ? cr[a] / len : 0.0f;
+                for (int k = 0; k < 3; k++) {
+                    if (!flag[vi[k]]) continue;
+                    if (np == cap) {
+                        float *q = jm_realloc(mem, pair, 3 * cap * sizeof *pair, 6 * cap * sizeof *pair);
+                        if (q) pair = q;
+                        uint32_t *u = q ? jm_realloc(mem, pslot, cap * sizeof *pslot, 2 * cap * sizeof *pslot) : NULL;
+                        if (!u) {
+                            if (q) pair = jm_realloc(mem, pair, 6 * cap * sizeof *pair, 3 * cap * sizeof *pair);
+                            ok = 0;
+                            break;
+                        }
+                        pslot = u;
+                        cap *= 2;
                     }
-                    pslot = u;
-                    cap *= 2;
+                    pslot[np] = slot[vi[k]];
+                    memcpy(pair + 3 * np++, cr, sizeof cr);
+                    start[slot[vi[k]] + 1]++;
                 }
-                pslot[np] = slot[vi[k]];
-                memcpy(pair + 3 * np++, cr, sizeof cr);
-                start[slot[vi[k]] + 1]++;
             }
-        }
     }
     if (ok) {
         for (size_t k = 0; k < bad; k++) start[k + 1] += start[k];
@@ -337,6 +340,43 @@ typedef struct fin {
     uint32_t *bits;     /* round 0, per 16 triangles t0 + l: bit l set where it
                            folds, bit 16 + l where a corner faces away */
 } fin;
+
+/* The triangles with a marked vertex, as bits (one per triangle, 64 a
+ * word), found in chunks on the pool's threads: the lists are then read
+ * off the bits in triangle order on one thread. */
+typedef struct marked {
+    const uint32_t *idx;
+    size_t nt;
+    const uint8_t *mark;
+    uint64_t *bits;
+} marked;
+
+static void marked_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const marked *M = arg;
+    const size_t t0 = k * FIN_CHUNK, t1 = t0 + FIN_CHUNK < M->nt ? t0 + FIN_CHUNK : M->nt;
+    for (size_t w = t0 / 64; w * 64 < t1; w++) {
+        uint64_t b = 0;
+        const size_t e = (w + 1) * 64 < t1 ? (w + 1) * 64 : t1;
+        for (size_t t = w * 64; t < e; t++) {
+            const uint32_t *v = M->idx + 3 * t;
+            b |= (uint64_t)(M->mark[v[0]] | M->mark[v[1]] | M->mark[v[2]]) << (t - w * 64);
+        }
+        M->bits[w] = b;
+    }
+}
+
+/* bits (nt / 64 + 1 words) set for the triangles with a marked vertex (mark:
+ * 0 or 1); their count */
+static size_t mark_triangles(jm_pool *pool, const uint32_t *idx, size_t nt, const uint8_t *mark, uint64_t *bits)
+{
+    marked M = {idx, nt, mark, bits};
+    jm_pool_run(pool, (nt + FIN_CHUNK - 1) / FIN_CHUNK, 1, marked_task, &M);
+    size_t n = 0;
+    for (size_t w = 0; w < (nt + 63) / 64; w++) n += (size_t)__builtin_popcountll(bits[w]);
+    return n;
+}
 
 static void sag_task(void *arg, size_t k, int worker)
 {
@@ -406,6 +446,7 @@ typedef struct rounds {
     uint32_t *watch, *awl, *hit;
     size_t capw, nw, na;
     int listed;
+    uint64_t *tbits; /* nt / 64 + 1: the triangles with a marked vertex */
 } rounds;
 
 /* No triangle folds over: a triangle whose normal, its vertices moved,
@@ -473,11 +514,10 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
         }
         if (!fresh) continue;
         R->nw = 0, all = 0; /* too many to list: every triangle */
-        for (size_t t = 0; t < nt && !all; t++)
-            if (changed[idx[3 * t]] | changed[idx[3 * t + 1]] | changed[idx[3 * t + 2]]) {
-                if (R->nw == R->capw) all = 1;
-                else R->watch[R->nw++] = (uint32_t)t;
-            }
+        if (mark_triangles(pool, idx, nt, changed, R->tbits) > R->capw) all = 1;
+        else
+            for (size_t w = 0; w < (nt + 63) / 64; w++)
+                for (uint64_t b = R->tbits[w]; b; b &= b - 1) R->watch[R->nw++] = (uint32_t)(64 * w + (size_t)__builtin_ctzll(b));
     }
     jm_free(mem, F->bits, (nw + 1) * sizeof *F->bits);
     F->bits = NULL;
@@ -499,9 +539,11 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
     fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, NULL,
              NULL};
     const size_t csz = compensate ? 4 * (nt + 1) * sizeof(float) : 0;
-    rounds R = {NULL, NULL, NULL, FINISH_LIST(nt), 0, 0, 1};
-    int ok = 1;
-    if (compensate) {
+    rounds R = {NULL, NULL, NULL, FINISH_LIST(nt), 0, 0, 1, NULL};
+    const size_t tbsz = (nt / 64 + 1) * sizeof *R.tbits;
+    R.tbits = jm_alloc(mem, tbsz);
+    int ok = R.tbits != NULL;
+    if (ok && compensate) {
         F.C = jm_alloc(mem, csz);
         R.watch = jm_alloc(mem, (2 * R.capw + nv) * sizeof *R.watch);
         ok = F.C && R.watch;
@@ -524,8 +566,9 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
             bad = flag_away(pos, nrm, idx, R.awl, R.na, flag, F.C, changed) +
                   flag_away(pos, nrm, idx, R.watch, R.nw, flag, NULL, changed);
         else bad = flag_away(pos, nrm, idx, NULL, nt, flag, F.C, changed);
-        ok = face_normals(mem, pos, nrm, nv, idx, nt, flag, bad);
+        ok = face_normals(mem, pool, pos, nrm, nv, idx, nt, flag, bad, R.tbits);
     }
+    jm_free(mem, R.tbits, tbsz);
     jm_free(mem, R.watch, (2 * R.capw + nv) * sizeof *R.watch);
     jm_free(mem, F.C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));

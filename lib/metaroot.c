@@ -1,46 +1,16 @@
 /* metaroot.c - a block's metasphere vertices on their lattice edges, 8 at a time: each piece's crossing in closed form (a ball) or by bracketed Newton steps (a half-neck). */
 #include "metaroot.h"
+#include "lanes8.h"
 #include <math.h>
 #include <string.h>
 
 /* Every piece is evaluated as jm_prim_eval does (a half-neck continued past
  * its ends by its own ball and by the ball of its waist), without the
- * normal: only the value and its derivative along the edge. The lanes are
- * GCC vectors, lowered to whatever the build and the CPU run (AVX2, SSE2
- * or plain C): the same IEEE operations lane by lane, no contraction (ISO
- * C), so the same bits; a vertex's root is one lane's, whatever lanes its
- * neighbours take (Newton steps and their latency, 8 at once). */
-typedef float v8f __attribute__((vector_size(32)));
-typedef int32_t v8i __attribute__((vector_size(32)));
-#define W 8
-
-static inline __attribute__((always_inline)) v8f bc(float x) { return (v8f){x, x, x, x, x, x, x, x}; }
-/* m ? a : b, lane by lane (m: 0 or -1) */
-static inline __attribute__((always_inline)) v8f sel(v8i m, v8f a, v8f b) { return (v8f)((m & (v8i)a) | (~m & (v8i)b)); }
-static inline __attribute__((always_inline)) v8f vabs(v8f x) { return (v8f)((v8i)x & 0x7fffffff); }
-static inline __attribute__((always_inline)) v8f vsqrt(v8f x)
-{
-    v8f r;
-    for (int l = 0; l < W; l++) r[l] = sqrtf(x[l]);
-    return r;
-}
-static inline __attribute__((always_inline)) int any(v8i m)
-{
-    int a = 0;
-    for (int l = 0; l < W; l++) a |= m[l];
-    return a;
-}
-/* jm_cos_quarter and jm_sin_quarter, term by term */
-static inline __attribute__((always_inline)) v8f vcos(v8f t)
-{
-    const v8f t2 = t * t;
-    return 1.0f + t2 * (-0.5f + t2 * (1.0f / 24 + t2 * (-1.0f / 720 + t2 * (1.0f / 40320 - t2 * (1.0f / 3628800)))));
-}
-static inline __attribute__((always_inline)) v8f vsin(v8f t)
-{
-    const v8f t2 = t * t;
-    return t * (1.0f + t2 * (-1.0f / 6 + t2 * (1.0f / 120 + t2 * (-1.0f / 5040 + t2 * (1.0f / 362880)))));
-}
+ * normal: only the value and its derivative along the edge, in 8 lanes
+ * (lanes8.h: the same bits on every path); a vertex's root is one lane's,
+ * whatever lanes its neighbours take (Newton steps and their latency, 8 at
+ * once). */
+#define W JM_LANES
 
 /* W vertices' edges and the pieces to solve for (p: their particles'
  * centres; u, half: a half-neck's axis and half its link) */
@@ -51,7 +21,7 @@ typedef struct lanes {
 
 /* lanes l of L from the vertices idx[0 .. m) (the last repeated past m)
  * and their pieces id[0 .. m) */
-static inline __attribute__((always_inline)) void load(const jm_grid *g, const jm_roots *r, const uint32_t *idx, const uint32_t *id, int m, lanes *L)
+JM_L8 void load(const jm_grid *g, const jm_roots *r, const uint32_t *idx, const uint32_t *id, int m, lanes *L)
 {
     for (int l = 0; l < W; l++) {
         const uint32_t v = idx[l < m ? l : m - 1], p = id[l < m ? l : m - 1];
@@ -71,7 +41,7 @@ static inline __attribute__((always_inline)) void load(const jm_grid *g, const j
 }
 
 /* the half-necks at a + t ab: values, and in *dv their derivatives along ab */
-static inline __attribute__((always_inline)) v8f neck_at(const lanes *L, v8f t, float inv_r, v8f *dv)
+JM_L8 v8f neck_at(const lanes *L, v8f t, float inv_r, v8f *dv)
 {
     const v8f wx = L->ax + t * L->bx - L->qx, wy = L->ay + t * L->by - L->qy, wz = L->az + t * L->bz - L->qz;
     v8f s = wx * L->ux + wy * L->uy + wz * L->uz;
@@ -89,7 +59,7 @@ static inline __attribute__((always_inline)) v8f neck_at(const lanes *L, v8f t, 
 }
 
 /* the balls at a + t ab */
-static inline __attribute__((always_inline)) v8f ball_at(const lanes *L, v8f t, float inv_r)
+JM_L8 v8f ball_at(const lanes *L, v8f t, float inv_r)
 {
     const v8f wx = L->ax + t * L->bx - L->qx, wy = L->ay + t * L->by - L->qy, wz = L->az + t * L->bz - L->qz;
     return 1.0f - vsqrt(wx * wx + wy * wy + wz * wz) * inv_r;
@@ -98,7 +68,7 @@ static inline __attribute__((always_inline)) v8f ball_at(const lanes *L, v8f t, 
 /* Where each ball's surface leaves the edge between t_in (inside it) and
  * t_out: |a + t ab - q| = r (1 - threshold), the root on t_out's side
  * (t kept where the edge misses the ball) */
-static inline __attribute__((always_inline)) v8f ball_exit(const jm_config *c, const lanes *L, v8f ti, v8f to, v8f t)
+JM_L8 v8f ball_exit(const jm_config *c, const lanes *L, v8f ti, v8f to, v8f t)
 {
     const float R = c->r * (1.0f - c->threshold);
     const v8f wx = L->ax - L->qx, wy = L->ay - L->qy, wz = L->az - L->qz;
@@ -118,7 +88,7 @@ static inline __attribute__((always_inline)) v8f ball_exit(const jm_config *c, c
  * whenever a step leaves the bracket; done where the value is within a
  * thousandth of a cube of it, or a step moves under a twentieth of the
  * edge (what is left is second order in it, about a thousandth) */
-static inline __attribute__((always_inline)) v8f neck_exit(const jm_config *c, const lanes *L, v8f ti, v8f to, v8f t)
+JM_L8 v8f neck_exit(const jm_config *c, const lanes *L, v8f ti, v8f to, v8f t)
 {
     const float thr = c->threshold, inv_r = c->mv_inv_r, tol = 1e-3f * c->h / c->r;
     t = sel((t - ti) * (t - to) <= 0.0f, t, 0.5f * (ti + to));
@@ -142,19 +112,22 @@ static inline __attribute__((always_inline)) v8f neck_exit(const jm_config *c, c
 /* The vertices idx[0 .. m) (m > 0), their pieces id[0 .. m) (balls, or
  * half-necks), exits between t_in (1 - t_out) and t_out (per vertex: 1
  * where its node a is inside) from their t: into t. */
-static inline __attribute__((always_inline)) void exits(const jm_grid *g, const jm_config *c, jm_roots *r, const uint32_t *idx, const uint32_t *id, size_t m,
+JM_L8 void exits(const jm_grid *g, const jm_config *c, jm_roots *r, const uint32_t *idx, const uint32_t *id, size_t m,
                   int necks, int from_t)
 {
     for (size_t k = 0; k < m; k += W) {
         const int w = m - k < W ? (int)(m - k) : W;
         lanes L;
         load(g, r, idx + k, id + k, w, &L);
-        v8f t = bc(0.0f), to = bc(0.0f);
+        float tl[W], tol[W];
         for (int l = 0; l < W; l++) {
             const uint32_t v = idx[k + (size_t)(l < w ? l : w - 1)];
-            t[l] = r->t[v];
-            to[l] = r->fa[v] > 0.0f ? 1.0f : 0.0f;
+            tl[l] = r->t[v];
+            tol[l] = r->fa[v] > 0.0f ? 1.0f : 0.0f;
         }
+        v8f t, to;
+        memcpy(&t, tl, sizeof t);
+        memcpy(&to, tol, sizeof to);
         const v8f ti = from_t ? t : 1.0f - to;
         t = necks ? neck_exit(c, &L, ti, to, t) : ball_exit(c, &L, ti, to, t);
         for (int l = 0; l < w; l++) r->t[idx[k + (size_t)l]] = t[l];
@@ -163,7 +136,7 @@ static inline __attribute__((always_inline)) void exits(const jm_grid *g, const 
 
 /* The vertices idx[0 .. m) whose piece id beats the threshold at their t
  * (balls, or half-necks) moved to the front; their count. */
-static inline __attribute__((always_inline)) size_t beaten(const jm_grid *g, const jm_config *c, jm_roots *r, uint32_t *idx, uint32_t *id, size_t m,
+JM_L8 size_t beaten(const jm_grid *g, const jm_config *c, jm_roots *r, uint32_t *idx, uint32_t *id, size_t m,
                      int necks)
 {
     size_t kept = 0;
@@ -171,8 +144,10 @@ static inline __attribute__((always_inline)) size_t beaten(const jm_grid *g, con
         const int w = m - k < W ? (int)(m - k) : W;
         lanes L;
         load(g, r, idx + k, id + k, w, &L);
-        v8f t = bc(0.0f), dv;
-        for (int l = 0; l < W; l++) t[l] = r->t[idx[k + (size_t)(l < w ? l : w - 1)]];
+        float tl[W];
+        for (int l = 0; l < W; l++) tl[l] = r->t[idx[k + (size_t)(l < w ? l : w - 1)]];
+        v8f t, dv;
+        memcpy(&t, tl, sizeof t);
         const v8f v = necks ? neck_at(&L, t, c->mv_inv_r, &dv) : ball_at(&L, t, c->mv_inv_r);
         for (int l = 0; l < w; l++)
             if (v[l] > c->threshold) {
