@@ -523,13 +523,16 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                     }
                     refs[q] = ref;
                 }
-                uint32_t *tri = out->tri + out->ni;
+                uint32_t *restrict tri = out->tri + out->ni, *restrict pp = out->pidx;
+                const uint32_t base = (uint32_t)out->ni;
+                size_t npi = out->npi;
                 for (int t = 0; t < 3 * nt; t++) {
                     const uint32_t rf = refs[lt[t]];
                     tri[t] = rf;
-                    out->pidx[out->npi] = (uint32_t)(out->ni + (size_t)t);
-                    out->npi += rf >> 31; /* JM_PENDING */
+                    pp[npi] = base + (uint32_t)t;
+                    npi += rf >> 31; /* JM_PENDING */
                 }
+                out->npi = npi;
                 out->ni += 3 * (size_t)nt;
             }
         }
