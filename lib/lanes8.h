@@ -3,6 +3,7 @@
 #define JETMESH_LANES8_H
 #include <math.h>
 #include <stdint.h>
+#include <string.h>
 
 /* Only for static functions inlined into one caller (cloned per CPU with
  * JM_CLONES_AVX2): a vector never crosses a function's boundary, so the
@@ -26,9 +27,9 @@ JM_L8 v8f vsqrt(v8f x)
 }
 JM_L8 int any(v8i m)
 {
-    int a = 0;
-    for (int l = 0; l < JM_LANES; l++) a |= m[l];
-    return a;
+    uint64_t x[4];
+    memcpy(x, &m, sizeof x);
+    return (x[0] | x[1] | x[2] | x[3]) != 0;
 }
 /* jm_cos_quarter and jm_sin_quarter (field.h), term by term */
 JM_L8 v8f vcos(v8f t)

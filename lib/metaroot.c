@@ -20,21 +20,19 @@ typedef struct lanes {
 } lanes;
 
 /* lanes l of L from the vertices idx[0 .. m) (the last repeated past m)
- * and their pieces id[0 .. m) */
-JM_L8 void load(const jm_grid *g, const jm_roots *r, const uint32_t *idx, const uint32_t *id, int m, lanes *L)
+ * and their pieces id[0 .. m): all balls, or all half-necks */
+JM_L8 void load(const jm_grid *g, const jm_roots *r, const uint32_t *idx, const uint32_t *id, int m, int necks,
+                lanes *L)
 {
     for (int l = 0; l < W; l++) {
         const uint32_t v = idx[l < m ? l : m - 1], p = id[l < m ? l : m - 1];
         L->ax[l] = r->ax[v], L->ay[l] = r->ay[v], L->az[l] = r->az[v];
         L->bx[l] = r->bx[v], L->by[l] = r->by[v], L->bz[l] = r->bz[v];
-        if (p < g->n) {
-            const float *q = &g->pos[3 * (size_t)p];
-            L->qx[l] = q[0], L->qy[l] = q[1], L->qz[l] = q[2];
-            L->ux[l] = L->uy[l] = L->uz[l] = L->half[l] = 0.0f;
-        } else {
-            const uint32_t e = p - (uint32_t)g->n;
-            const float *q = &g->pos[3 * (size_t)g->nb_owner[e]], *u = &g->nb_dir[4 * (size_t)e];
-            L->qx[l] = q[0], L->qy[l] = q[1], L->qz[l] = q[2];
+        const uint32_t e = p - (uint32_t)g->n;
+        const float *q = &g->pos[3 * (size_t)(necks ? g->nb_owner[e] : p)];
+        L->qx[l] = q[0], L->qy[l] = q[1], L->qz[l] = q[2];
+        if (necks) {
+            const float *u = &g->nb_dir[4 * (size_t)e];
             L->ux[l] = u[0], L->uy[l] = u[1], L->uz[l] = u[2], L->half[l] = 0.5f * u[3];
         }
     }
@@ -118,7 +116,7 @@ JM_L8 void exits(const jm_grid *g, const jm_config *c, jm_roots *r, const uint32
     for (size_t k = 0; k < m; k += W) {
         const int w = m - k < W ? (int)(m - k) : W;
         lanes L;
-        load(g, r, idx + k, id + k, w, &L);
+        load(g, r, idx + k, id + k, w, necks, &L);
         float tl[W], tol[W];
         for (int l = 0; l < W; l++) {
             const uint32_t v = idx[k + (size_t)(l < w ? l : w - 1)];
@@ -143,7 +141,7 @@ JM_L8 size_t beaten(const jm_grid *g, const jm_config *c, jm_roots *r, uint32_t 
     for (size_t k = 0; k < m; k += W) {
         const int w = m - k < W ? (int)(m - k) : W;
         lanes L;
-        load(g, r, idx + k, id + k, w, &L);
+        load(g, r, idx + k, id + k, w, necks, &L);
         float tl[W];
         for (int l = 0; l < W; l++) tl[l] = r->t[idx[k + (size_t)(l < w ? l : w - 1)]];
         v8f t, dv;
@@ -173,10 +171,12 @@ JM_CLONES_AVX2 void jm_roots_solve(const jm_grid *g, const jm_config *c, jm_root
             const int a_in = r->fa[v] > 0.0f;
             const uint32_t k_in = a_in ? r->c0[v] : r->c1[v], k_out = a_in ? r->c1[v] : r->c0[v];
             const uint32_t p = round ? k_out : k_in;
-            /* (an inside node always has its piece) */
-            if (k_in == UINT32_MAX || p == UINT32_MAX || (round && k_out == k_in)) continue;
-            if (p < g->n) vi[nb] = (uint32_t)v, pi[nb++] = p;
-            else vj[nn] = (uint32_t)v, pj[nn++] = p;
+            /* (an inside node always has its piece); each vertex to one
+             * list or neither, without a branch */
+            const int use = k_in != UINT32_MAX && p != UINT32_MAX && !(round && k_out == k_in), ball = p < g->n;
+            vi[nb] = (uint32_t)v, pi[nb] = p, vj[nn] = (uint32_t)v, pj[nn] = p;
+            nb += (size_t)(use & ball);
+            nn += (size_t)(use & !ball);
         }
         if (round) {
             nb = beaten(g, c, r, vi, pi, nb, 0);
