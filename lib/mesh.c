@@ -832,6 +832,40 @@ static jm_status make_template(jm_context *ctx)
     return JM_OK;
 }
 
+/* The bounds of nv > 0 points: four at a time as three vectors of 4
+ * floats (lanes x y z x, y z x y, z x y z), whose lanes gather each axis's
+ * minimum and maximum (exact: any order gives them) */
+static void bounds(const float *pos, size_t nv, float lo[3], float hi[3])
+{
+    typedef float v4f __attribute__((vector_size(16)));
+    typedef int32_t v4i __attribute__((vector_size(16)));
+    v4f mn[3], mx[3];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 4; l++) mn[k][l] = mx[k][l] = pos[(4 * k + l) % 3];
+    size_t v = 0;
+    for (; v + 4 <= nv; v += 4)
+        for (int k = 0; k < 3; k++) {
+            v4f x;
+            memcpy(&x, pos + 3 * v + 4 * k, sizeof x);
+            const v4i lt = x < mn[k], gt = x > mx[k];
+            mn[k] = (v4f)((lt & (v4i)x) | (~lt & (v4i)mn[k]));
+            mx[k] = (v4f)((gt & (v4i)x) | (~gt & (v4i)mx[k]));
+        }
+    for (int a = 0; a < 3; a++) lo[a] = hi[a] = pos[a];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 4; l++) {
+            const int a = (4 * k + l) % 3;
+            if (mn[k][l] < lo[a]) lo[a] = mn[k][l];
+            if (mx[k][l] > hi[a]) hi[a] = mx[k][l];
+        }
+    for (; v < nv; v++)
+        for (int a = 0; a < 3; a++) {
+            const float x = pos[3 * v + a];
+            if (x < lo[a]) lo[a] = x;
+            if (x > hi[a]) hi[a] = x;
+        }
+}
+
 jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_mesh *out_mesh, jm_stats *out_stats)
 {
     if (out_mesh) memset(out_mesh, 0, sizeof *out_mesh);
@@ -863,15 +897,7 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
         m->indices = ctx->idx;
         m->vertex_count = ctx->nv;
         m->triangle_count = ctx->ni / 3;
-        if (ctx->nv) {
-            for (int a = 0; a < 3; a++) m->bounds_min[a] = m->bounds_max[a] = ctx->pos[a];
-            for (size_t v = 1; v < ctx->nv; v++)
-                for (int a = 0; a < 3; a++) {
-                    float x = ctx->pos[3 * v + a];
-                    if (x < m->bounds_min[a]) m->bounds_min[a] = x;
-                    if (x > m->bounds_max[a]) m->bounds_max[a] = x;
-                }
-        }
+        if (ctx->nv) bounds(ctx->pos, ctx->nv, m->bounds_min, m->bounds_max);
         if (!m->positions) { m->vertex_count = 0; m->triangle_count = 0; }
         st.vertices = ctx->nv;
         st.triangles = ctx->ni / 3;
