@@ -333,7 +333,10 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     out->cells = (size_t)B * B * B;
 
     double t0 = jm_now_ms();
-    if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
+    const int hood_ok = bs->cell_start ? jm_hood_build_listed(&s->hood, g, c, lo, hi, bs->cells + bs->cell_start[b],
+                                                             bs->cell_start[b + 1] - bs->cell_start[b])
+                                       : jm_hood_build(&s->hood, g, c, lo, hi);
+    if (!hood_ok) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
     /* anisotropic kernels: the ones reaching the block (and the normals'
      * part boxes, a hundredth of a support wider), looked at from here on */

@@ -58,7 +58,20 @@ typedef struct jm_block_set {
     uint64_t *key;            /* sorted block keys */
     jm_hashmap map;           /* key -> index */
     int64_t origin[3];        /* block coordinate of relative zero */
+    uint32_t *cell_start;     /* metasphere: count + 1, each block's first in cells */
+    uint32_t *cells;          /* the cells that reach each block (hood_cells.c) */
+    size_t ncells;
 } jm_block_set;
+
+/* The cells with a particle not isolated whose influence reaches each block
+ * of bs (cell_start, cells; the grid's cell coordinates still there): 0 if
+ * out of memory. */
+int jm_block_cells(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs);
+/* jm_hood_build from a block's listed cells: the cells around the box
+ * [lo, hi] not listed hold no particle that reaches it but isolated ones
+ * (which the metasphere's splats skip): their ranges are empty. */
+int jm_hood_build_listed(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3],
+                         const uint32_t *cells, size_t ncells);
 
 typedef struct jm_block_env {
     const jm_grid *g;

@@ -495,6 +495,10 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
 
 static void free_blocks(jm_block_set *bs, jm_mem *mem)
 {
+    if (bs->cell_start) {
+        jm_free(mem, bs->cells, (bs->ncells ? bs->ncells : 1) * sizeof *bs->cells);
+        jm_free(mem, bs->cell_start, (bs->count + 1) * sizeof *bs->cell_start);
+    }
     jm_free(mem, bs->key, (bs->count ? bs->count : 1) * sizeof *bs->key);
     if (bs->map.keys) jm_hashmap_free(&bs->map, mem);
     memset(bs, 0, sizeof *bs);
@@ -559,7 +563,16 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     jm_block_set bs;
     s = build_blocks(c, &g, mem, &bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
-    jm_grid_drop_coords(&g, mem); /* read no more */
+    /* the metasphere's blocks list the cells that reach them (their hoods
+     * are filled from the lists, with the cells' coordinates) */
+    if (c->field == JM_FIELD_METASPHERE) {
+        if (!jm_block_cells(c, &g, mem, &bs)) {
+            s = JM_E_OUT_OF_MEMORY;
+            goto out_blocks;
+        }
+    } else {
+        jm_grid_drop_coords(&g, mem); /* read no more */
+    }
     st->particles = in->count;
     st->isolated = g.n_isolated;
     st->blocks = bs.count;
