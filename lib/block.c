@@ -79,7 +79,7 @@ void jm_scratch_free(jm_scratch *s)
 
 void jm_bout_reset(jm_bout *o)
 {
-    o->nv = o->ni = o->np = o->nb = o->npi = o->cells = 0;
+    o->nv = o->ni = o->np = o->nb = o->cells = 0;
     o->t_field = o->t_extract = o->t_attr = 0;
     o->failed = 0;
 }
@@ -91,7 +91,6 @@ void jm_bout_free(jm_bout *o, jm_mem *mem)
     jm_free(mem, o->uv, o->capv * 2 * sizeof(float));
     jm_free(mem, o->cand, o->capv * 2 * sizeof(uint32_t));
     jm_free(mem, o->tri, o->capt * sizeof(uint32_t));
-    jm_free(mem, o->pidx, o->cappi * sizeof(uint32_t));
     jm_free(mem, o->pend, o->capp * 2 * sizeof(uint32_t));
     jm_free(mem, o->bmap, o->capb * 2 * sizeof(uint32_t));
     memset(o, 0, sizeof *o);
@@ -447,8 +446,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                 size_t nd = row + i;
                 const unsigned cfg_here = cfgs[i];
                 int nt = tab->ntri[cfg_here];
-                if (!grow(mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t)) ||
-                    !grow(mem, (void **)&out->pidx, &out->cappi, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
+                if (!grow(mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
                     out->failed = 1;
                     goto done;
                 }
@@ -526,16 +524,8 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                     }
                     refs[q] = ref;
                 }
-                uint32_t *restrict tri = out->tri + out->ni, *restrict pp = out->pidx;
-                const uint32_t base = (uint32_t)out->ni;
-                size_t npi = out->npi;
-                for (int t = 0; t < 3 * nt; t++) {
-                    const uint32_t rf = refs[lt[t]];
-                    tri[t] = rf;
-                    pp[npi] = base + (uint32_t)t;
-                    npi += rf >> 31; /* JM_PENDING */
-                }
-                out->npi = npi;
+                uint32_t *tri = out->tri + out->ni;
+                for (int t = 0; t < 3 * nt; t++) tri[t] = refs[lt[t]];
                 out->ni += 3 * (size_t)nt;
             }
         }

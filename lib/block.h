@@ -18,8 +18,6 @@ typedef struct jm_bout {
     size_t ni, capt;          /* indices (3 per triangle) */
     uint32_t *pend;           /* 2 per pending vertex */
     size_t np, capp;
-    uint32_t *pidx;           /* where in tri the refs to pending vertices are */
-    size_t npi, cappi;
     uint32_t *bmap;           /* 2 per owned vertex on a min face: slot, local index */
     size_t nb, capb;
     size_t cells;

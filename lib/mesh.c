@@ -286,11 +286,9 @@ typedef struct frame_job {
     size_t *vbase;         /* per block: first global vertex */
     uint32_t **bmap;       /* per block: sorted (slot, local) pairs */
     uint32_t *nbmap;
-    size_t *slot_vbase, *slot_ibase, *slot_pbase, *slot_qbase;
+    size_t *slot_vbase, *slot_ibase, *slot_pbase;
     uint32_t *pend;        /* global pending pairs */
     size_t npend, cappend;
-    uint32_t *pidx;        /* where the indices refer to pending pairs */
-    size_t npidx, cappidx;
     atomic_int failed;     /* 1 memory, 2 internal; set by any worker */
     uint32_t *iso;         /* sorted indices of isolated particles, input order */
     float *iso_pos;        /* and their positions (the sweep may release the grid's) */
@@ -317,12 +315,11 @@ static void copy_task(void *arg, size_t i, int worker)
         memcpy(ctx->nrm + 3 * vb, o->nrm, o->nv * 3 * sizeof(float));
         memcpy(ctx->uv + 2 * vb, o->uv, o->nv * 2 * sizeof(float));
     }
-    uint32_t *dst = ctx->idx + ib, *q = job->pidx + job->slot_qbase[i];
+    uint32_t *dst = ctx->idx + ib;
     for (size_t t = 0; t < o->ni; t++) {
         uint32_t r = o->tri[t];
         dst[t] = (r & JM_PENDING) ? (JM_PENDING | (uint32_t)(pb + (r & ~JM_PENDING))) : (uint32_t)(vb + r);
     }
-    for (size_t k = 0; k < o->npi; k++) q[k] = (uint32_t)(ib + o->pidx[k]);
     if (o->np) memcpy(job->pend + 2 * pb, o->pend, o->np * 2 * sizeof(uint32_t));
     size_t b = job->first + i;
     if (o->nb) {
@@ -362,11 +359,11 @@ static void patch_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     frame_job *job = arg;
-    uint32_t *idx = job->ctx->idx;
-    size_t a = chunk * CHUNK, b = a + CHUNK < job->npidx ? a + CHUNK : job->npidx;
-    for (size_t k = a; k < b; k++) {
-        uint32_t *r = &idx[job->pidx[k]];
-        *r = job->pend[2 * (size_t)(*r & ~JM_PENDING)];
+    jm_context *ctx = job->ctx;
+    size_t a = chunk * CHUNK, b = a + CHUNK < ctx->ni ? a + CHUNK : ctx->ni;
+    for (size_t t = a; t < b; t++) {
+        uint32_t r = ctx->idx[t];
+        if (r & JM_PENDING) ctx->idx[t] = job->pend[2 * (size_t)(r & ~JM_PENDING)];
     }
 }
 
@@ -613,14 +610,13 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             ctx->nbouts = slots;
         }
     }
-    job.slot_vbase = jm_alloc(mem, 4 * slots * sizeof(size_t));
+    job.slot_vbase = jm_alloc(mem, 3 * slots * sizeof(size_t));
     if (!job.vbase || !job.bmap || !job.nbmap || !job.slot_vbase || ctx->nbouts < slots) {
         s = JM_E_OUT_OF_MEMORY;
         goto out_job;
     }
     job.slot_ibase = job.slot_vbase + slots;
     job.slot_pbase = job.slot_ibase + slots;
-    job.slot_qbase = job.slot_pbase + slots;
     /* the isolated particles, in the input's order, and where they are: the
      * templates go after the sweep, which may have released the grid */
     if (g.n_isolated) {
@@ -659,8 +655,6 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             job.slot_vbase[i] = nv;
             job.slot_ibase[i] = ni;
             job.slot_pbase[i] = np;
-            job.slot_qbase[i] = job.npidx;
-            job.npidx += o->npi;
             nv += o->nv;
             ni += o->ni;
             np += o->np;
@@ -674,14 +668,6 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             if (!p) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
             job.pend = p;
             job.cappend = nc;
-        }
-        if (job.npidx > job.cappidx) {
-            size_t nc = job.cappidx ? job.cappidx * 2 : 4096;
-            while (nc < job.npidx) nc *= 2;
-            uint32_t *p = jm_realloc(mem, job.pidx, job.cappidx * sizeof *p, nc * sizeof *p);
-            if (!p) { s = JM_E_OUT_OF_MEMORY; goto out_job; }
-            job.pidx = p;
-            job.cappidx = nc;
         }
         job.npend = np;
         ctx->nv = nv;
@@ -709,7 +695,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         jm_free(mem, job.bmap[b], job.nbmap[b] * 2 * sizeof(uint32_t));
         job.bmap[b] = NULL;
     }
-    jm_pool_run(ctx->pool, (job.npidx + CHUNK - 1) / CHUNK, 1, patch_task, &job);
+    jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
     if (c->field == JM_FIELD_METASPHERE && (c->compensate || c->normals) &&
         !jm_meta_finish(&ctx->mem, ctx->pool, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate,
                         c->normals, 0.1f * c->h)) {
@@ -802,8 +788,7 @@ out_job:
     jm_free(mem, job.vbase, nb * sizeof *job.vbase);
     jm_free(mem, job.bmap, nb * sizeof *job.bmap);
     jm_free(mem, job.nbmap, nb * sizeof *job.nbmap);
-    jm_free(mem, job.slot_vbase, 4 * slots * sizeof(size_t));
-    jm_free(mem, job.pidx, job.cappidx * sizeof *job.pidx);
+    jm_free(mem, job.slot_vbase, 3 * slots * sizeof(size_t));
 out_blocks:
     free_blocks(&bs, mem);
     jm_grid_free(&g, mem);
