@@ -417,7 +417,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     out->t_field = t1 - t0;
     if (inside == 0 || inside == nn) return;
 
-    const int meta = c->field == JM_FIELD_METASPHERE, np = jm_probe_parts(B);
+    const int meta = c->field == JM_FIELD_METASPHERE;
     const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
     const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
     jm_mem *mem = env->mem;
@@ -478,7 +478,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
                                 if (!jm_roots_add(&s->roots, a, ab, fa - thr, tt, cv) ||
-                                    !jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, a)) {
+                                    !jm_probe_add(&s->probe, out->nv, (uint32_t)slot, (uint32_t)(ni | nj << 8 | nk << 16), tt, a)) {
                                     out->failed = 1;
                                     goto done;
                                 }

@@ -317,14 +317,14 @@ static void few_link(void *ctx, const int lo[3], const int hi[3], const float *q
 
 /* the pass over the sorted points x, y, z (n of them, n >= 8) with part
  * starts ps, sums into acc (3 n floats, zeroed here) */
-static pass make_pass(const jm_config *c, int B, const float *x, const float *y, const float *z, size_t n,
+static pass make_pass(const jm_config *c, int np, const float *x, const float *y, const float *z, size_t n,
                       const uint32_t *ps, float *acc)
 {
     memset(acc, 0, n * 3 * sizeof(float));
     /* a piece comes within tau of the threshold only within rb of its
      * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
     const float rb = band_reach(c);
-    pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau,
+    pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, np, c->threshold, 1.0f / c->mv_tau,
               1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}, NULL};
     return P;
 }
@@ -336,7 +336,7 @@ int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *h
 #endif
     const size_t ns = nv < 8 ? 8 : nv;
     if (!reserve(m, ns)) return 0;
-    pass P = make_pass(c, B, pr->px, pr->py, pr->pz, ns, pr->pstart, m->acc);
+    pass P = make_pass(c, jm_probe_parts(B, pr->pc), pr->px, pr->py, pr->pz, ns, pr->pstart, m->acc);
     P.vm = pr->vmax;
     P.rb_probe = rb_probe;
     P.rn_probe = rn_probe;
@@ -345,7 +345,7 @@ int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *h
     P.rec = m;
     const float reach = band_reach(c);
     const jm_piece_visitor vis = {reach, reach, fused_ball, fused_link, &P};
-    jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+    jm_probe_pieces(g, c, hood, B, pr->pc, x, y, z, &vis);
     return 1;
 }
 
@@ -365,7 +365,7 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
         if (memcmp(&pos[3 * (size_t)v], &pr->pt[3 * (size_t)v], 3 * sizeof(float)) != 0) moved[nm++] = (uint32_t)w;
     }
     if (nm) {
-        const int np = jm_probe_parts(B);
+        const int np = jm_probe_parts(B, pr->pc);
         const size_t parts = (size_t)np * np * np, n2 = nm < 8 ? 8 : nm;
         /* their part starts, where the probe counted (free after its sort) */
         uint32_t *ps = pr->pstart + parts + 1;
@@ -390,7 +390,7 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
             }
         }
         for (size_t q = 0; q < parts; q++) ps[q + 1] += ps[q];
-        pass P = make_pass(c, B, sx, sy, sz, n2, ps, sacc);
+        pass P = make_pass(c, np, sx, sy, sz, n2, ps, sacc);
         memcpy(P.clo, clo, sizeof clo);
         memcpy(P.chi, chi, sizeof chi);
         if (m->visits) {
@@ -403,7 +403,7 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
         } else {
             const float reach = band_reach(c);
             const jm_piece_visitor vis = {reach, reach, few_ball, few_link, &P};
-            jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+            jm_probe_pieces(g, c, hood, B, pr->pc, x, y, z, &vis);
         }
         for (size_t j = 0; j < nm; j++) {
             ax[moved[j]] = P.ax[j];
