@@ -97,22 +97,21 @@ static inline int stored_away(const float *restrict N, const uint32_t *vi, const
     return facing_away(N, vi, _mm_loadu_ps(cr));
 }
 /* Whether triangle v, its vertices moved by D along their normals N, turns
- * its normal (x2 area) against its own at positions P: that read from c
- * where not NULL (from tri_sag, the same bits as (p1 - p0) x (p2 - p0) but
- * for the sign of a zero, which the test does not see, as p0 - p2 is
- * -(p2 - p0) exactly), then replaced there by the moved one (for the same
- * reason, what corners_away would compute at the moved positions). */
+ * its normal (x2 area) against its own at positions P; the moved one into
+ * moved where not NULL (4 floats: the same bits as corners_away computes
+ * at the moved positions but for the sign of a zero, which the tests do
+ * not see, as p0 - p2 is -(p2 - p0) exactly). */
 static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        float *c)
+                        float *moved)
 {
     __m128 p[3], q[3];
     for (int k = 0; k < 3; k++) {
         p[k] = ld3(P + 3 * (size_t)v[k]);
         q[k] = _mm_add_ps(p[k], _mm_mul_ps(_mm_set1_ps(D[v[k]]), ld3(N + 3 * (size_t)v[k])));
     }
-    const __m128 c0 = c ? _mm_loadu_ps(c) : cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
+    const __m128 c0 = cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
     const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
-    if (c) _mm_storeu_ps(c, c1);
+    if (moved) _mm_storeu_ps(moved, c1);
     return dot3(c0, c1) < 0.0f;
 }
 #else
@@ -160,7 +159,7 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     return stored_away(N, vi, cr);
 }
 static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        float *c)
+                 float *moved)
 {
     float p[3][3], q[3][3];
     for (int k = 0; k < 3; k++)
@@ -173,14 +172,11 @@ static int folds(const float *restrict P, const float *restrict N, const float *
         u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
         x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
     }
-    if (c) memcpy(c0, c, sizeof c0);
-    else {
-        c0[0] = u[1] * w[2] - u[2] * w[1];
-        c0[1] = u[2] * w[0] - u[0] * w[2];
-        c0[2] = u[0] * w[1] - u[1] * w[0];
-    }
+    c0[0] = u[1] * w[2] - u[2] * w[1];
+    c0[1] = u[2] * w[0] - u[0] * w[2];
+    c0[2] = u[0] * w[1] - u[1] * w[0];
     const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    if (c) memcpy(c, c1, sizeof c1);
+    if (moved) memcpy(moved, c1, sizeof c1);
     return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
 }
 #endif
@@ -199,17 +195,15 @@ static int folds(const float *restrict P, const float *restrict N, const float *
 /* Which vertices have a corner that does not face its triangle: flag[v]
  * set (flag: nv bytes, zeroed by the caller), their count returned. The
  * triangles listed in tl (nl of them), or every triangle when tl is NULL,
- * are tested at P; C1, where not NULL, holds each triangle's normal (x2
- * area) at P unless changed marks one of its vertices. */
+ * are tested at P. */
 static size_t flag_away(const float *restrict P, const float *restrict N, const uint32_t *idx, const uint32_t *tl,
-                        size_t nl, uint8_t *flag, const float *C1, const uint8_t *changed)
+                        size_t nl, uint8_t *flag)
 {
     size_t bad = 0;
     for (size_t j = 0; j < nl; j++) {
         const size_t t = tl ? tl[j] : j;
         const uint32_t *vi = idx + 3 * t;
-        const int away = C1 && !(changed[vi[0]] | changed[vi[1]] | changed[vi[2]]) ? stored_away(N, vi, C1 + 4 * t)
-                                                                                  : corners_away(P, N, vi);
+        const int away = corners_away(P, N, vi);
         if (!away) continue;
         for (int k = 0; k < 3; k++) {
             if ((away >> k & 1) && !flag[vi[k]]) {
@@ -335,7 +329,6 @@ typedef struct fin {
     const uint32_t *idx;
     size_t nt;
     int facing, lanes;  /* lanes: 16 (AVX-512), 8 (AVX2) or 1 a pass */
-    float *C;           /* per triangle: its normal (x2 area), 4 floats */
     float *as, *area;   /* per triangle: its sag times its area / 24, its area */
     uint32_t *bits;     /* round 0, per 16 triangles t0 + l: bit l set where it
                            folds, bit 16 + l where a corner faces away */
@@ -384,11 +377,11 @@ static void sag_task(void *arg, size_t k, int worker)
     const fin *F = arg;
     const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt;
     size_t t = k * FIN_CHUNK;
-    for (; F->lanes == 16 && t + 16 <= t1; t += 16) jm_finish_sag16(F->P, F->N, F->idx, t, F->C, F->as + t, F->area + t);
-    for (; F->lanes >= 8 && t + 8 <= t1; t += 8) jm_finish_sag8(F->P, F->N, F->idx, t, F->C, F->as + t, F->area + t);
+    for (; F->lanes == 16 && t + 16 <= t1; t += 16) jm_finish_sag16(F->P, F->N, F->idx, t, F->as + t, F->area + t);
+    for (; F->lanes >= 8 && t + 8 <= t1; t += 8) jm_finish_sag8(F->P, F->N, F->idx, t, F->as + t, F->area + t);
     for (; t < t1; t++) {
-        float len;
-        const float sag = tri_sag(F->P, F->N, F->idx + 3 * t, &len, F->C + 4 * t);
+        float len, cr[4];
+        const float sag = tri_sag(F->P, F->N, F->idx + 3 * t, &len, cr);
         F->area[t] = 0.5f * len;
         F->as[t] = F->area[t] * sag * (1.0f / 24.0f);
     }
@@ -402,19 +395,20 @@ static void fold0_task(void *arg, size_t k, int worker)
     size_t t = k * FIN_CHUNK;
     for (size_t w = t / 16; w <= (t1 - 1) / 16; w++) F->bits[w] = 0;
     for (; F->lanes == 16 && t + 16 <= t1; t += 16)
-        F->bits[t / 16] = jm_finish_fold16(F->P, F->N, F->D, F->idx, t, F->C, F->facing);
+        F->bits[t / 16] = jm_finish_fold16(F->P, F->N, F->D, F->idx, t, F->facing);
     for (; F->lanes >= 8 && t + 8 <= t1; t += 8)
-        F->bits[t / 16] |= jm_finish_fold8(F->P, F->N, F->D, F->idx, t, F->C, F->facing) << (t % 16);
+        F->bits[t / 16] |= jm_finish_fold8(F->P, F->N, F->D, F->idx, t, F->facing) << (t % 16);
     for (; t < t1; t++) {
         const uint32_t *v = F->idx + 3 * t;
-        const uint32_t f = (uint32_t)folds(F->P, F->N, F->D, v, F->C + 4 * t);
-        const uint32_t away = (uint32_t)(F->facing && stored_away(F->N, v, F->C + 4 * t));
+        float moved[4];
+        const uint32_t f = (uint32_t)folds(F->P, F->N, F->D, v, moved);
+        const uint32_t away = (uint32_t)(F->facing && stored_away(F->N, v, moved));
         F->bits[t / 16] |= (f | away << 16) << (t % 16);
     }
 }
 
 /* Each vertex's offset D along its normal: the area-weighted mean sag of
- * its triangles (their normals into C), at most max_sag either way. */
+ * its triangles, at most max_sag either way. */
 static int sag_offsets(jm_mem *mem, jm_pool *pool, fin *F, float *A, float *D, size_t nv, float max_sag)
 {
     const size_t nt = F->nt, nch = (nt + FIN_CHUNK - 1) / FIN_CHUNK;
@@ -456,8 +450,9 @@ typedef struct rounds {
  * vertices is not folded, so the rounds end. After the first round (every
  * triangle), a round looks only at the triangles with a vertex whose
  * offset has changed: the others keep the offsets with which that round
- * found them not folded. The first round's moved normal replaces each
- * triangle's in C: where no vertex changes after it, the facing test's. */
+ * found them not folded. The first round also finds the triangles with a
+ * corner away from their moved normal (awl), which the facing pass tests
+ * again at the final positions. */
 static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint8_t *flag, size_t nv,
                        rounds *R)
 {
@@ -536,17 +531,14 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
     uint8_t *flag = (uint8_t *)acc, *changed = (uint8_t *)acc + nv;
     /* 16 triangles a pass where the CPU can (metafinish16.c), else 8
      * (metafinish8.c): the same bits as one at a time */
-    fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, NULL,
-             NULL};
-    const size_t csz = compensate ? 4 * (nt + 1) * sizeof(float) : 0;
+    fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, NULL};
     rounds R = {NULL, NULL, NULL, FINISH_LIST(nt), 0, 0, 1, NULL};
     const size_t tbsz = (nt / 64 + 1) * sizeof *R.tbits;
     R.tbits = jm_alloc(mem, tbsz);
     int ok = R.tbits != NULL;
     if (ok && compensate) {
-        F.C = jm_alloc(mem, csz);
         R.watch = jm_alloc(mem, (2 * R.capw + nv) * sizeof *R.watch);
-        ok = F.C && R.watch;
+        ok = R.watch != NULL;
         if (ok) {
             R.awl = R.watch + R.capw;
             R.hit = R.awl + R.capw;
@@ -563,14 +555,12 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
         size_t bad;
         memset(flag, 0, nv);
         if (compensate && R.listed)
-            bad = flag_away(pos, nrm, idx, R.awl, R.na, flag, F.C, changed) +
-                  flag_away(pos, nrm, idx, R.watch, R.nw, flag, NULL, changed);
-        else bad = flag_away(pos, nrm, idx, NULL, nt, flag, F.C, changed);
+            bad = flag_away(pos, nrm, idx, R.awl, R.na, flag) + flag_away(pos, nrm, idx, R.watch, R.nw, flag);
+        else bad = flag_away(pos, nrm, idx, NULL, nt, flag);
         ok = face_normals(mem, pool, pos, nrm, nv, idx, nt, flag, bad, R.tbits);
     }
     jm_free(mem, R.tbits, tbsz);
     jm_free(mem, R.watch, (2 * R.capw + nv) * sizeof *R.watch);
-    jm_free(mem, F.C, csz);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
     return ok;
 }

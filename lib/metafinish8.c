@@ -57,8 +57,7 @@ AVX2 static inline void firsts(__m256 x, float *out)
     out[1] = _mm_cvtss_f32(_mm256_extractf128_ps(x, 1));
 }
 
-AVX2 void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, size_t t0, float *C, float *as,
-                         float *area)
+AVX2 void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, size_t t0, float *as, float *area)
 {
     for (int g = 0; g < 8; g += 2) {
         const uint32_t *v0 = idx + 3 * (t0 + g), *v1 = v0 + 3;
@@ -66,7 +65,6 @@ AVX2 void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, si
         const __m256 n0 = ld3x2(N, v0, v1, 0), n1 = ld3x2(N, v0, v1, 1), n2 = ld3x2(N, v0, v1, 2);
         const __m256 e1 = _mm256_sub_ps(p1, p0), e2 = _mm256_sub_ps(p2, p1), e3 = _mm256_sub_ps(p0, p2);
         const __m256 cr = cross2(e3, e1);
-        _mm256_storeu_ps(C + 4 * (t0 + g), cr);
         const __m256 len = _mm256_sqrt_ps(dot2(cr, cr));
         const __m256 m1 = _mm256_mul_ps(_mm256_sub_ps(n1, n0), e1), m2 = _mm256_mul_ps(_mm256_sub_ps(n2, n1), e2),
                      m3 = _mm256_mul_ps(_mm256_sub_ps(n0, n2), e3);
@@ -79,21 +77,20 @@ AVX2 void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, si
     }
 }
 
-AVX2 uint32_t jm_finish_fold8(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, float *C,
+AVX2 uint32_t jm_finish_fold8(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0,
                               int facing)
 {
     uint32_t out = 0;
     for (int g = 0; g < 8; g += 2) {
         const uint32_t *v0 = idx + 3 * (t0 + g), *v1 = v0 + 3;
-        __m256 q[3], n[3];
+        __m256 p[3], q[3], n[3];
         for (int k = 0; k < 3; k++) {
             n[k] = ld3x2(N, v0, v1, k);
-            q[k] = _mm256_add_ps(ld3x2(P, v0, v1, k), _mm256_mul_ps(splat2(D, v0, v1, k), n[k]));
+            p[k] = ld3x2(P, v0, v1, k);
+            q[k] = _mm256_add_ps(p[k], _mm256_mul_ps(splat2(D, v0, v1, k), n[k]));
         }
-        float *c = C + 4 * (t0 + g);
-        const __m256 c0 = _mm256_loadu_ps(c);
+        const __m256 c0 = cross2(_mm256_sub_ps(p[1], p[0]), _mm256_sub_ps(p[2], p[0]));
         const __m256 c1 = cross2(_mm256_sub_ps(q[1], q[0]), _mm256_sub_ps(q[2], q[0]));
-        _mm256_storeu_ps(c, c1);
         /* lane j's first float below zero: bit 4 j */
         const int f = _mm256_movemask_ps(_mm256_cmp_ps(dot2(c0, c1), _mm256_setzero_ps(), _CMP_LT_OQ));
         int away = 0;
@@ -121,14 +118,13 @@ AVX2 uint32_t jm_finish_fold8(const float *P, const float *N, const float *D, co
 }
 #else
 int jm_finish8_ok(void) { return 0; }
-void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, size_t t0, float *C, float *as, float *area)
+void jm_finish_sag8(const float *P, const float *N, const uint32_t *idx, size_t t0, float *as, float *area)
 {
-    (void)P, (void)N, (void)idx, (void)t0, (void)C, (void)as, (void)area;
+    (void)P, (void)N, (void)idx, (void)t0, (void)as, (void)area;
 }
-uint32_t jm_finish_fold8(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, float *C,
-                         int facing)
+uint32_t jm_finish_fold8(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, int facing)
 {
-    (void)P, (void)N, (void)D, (void)idx, (void)t0, (void)C, (void)facing;
+    (void)P, (void)N, (void)D, (void)idx, (void)t0, (void)facing;
     return 0;
 }
 #endif
