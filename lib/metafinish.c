@@ -329,7 +329,8 @@ typedef struct fin {
     const uint32_t *idx;
     size_t nt;
     int facing, lanes;  /* lanes: 16 (AVX-512), 8 (AVX2) or 1 a pass */
-    float *as, *area;   /* per triangle: its sag times its area / 24, its area */
+    float *as, *area;   /* per triangle of the wave: its sag times its area / 24, its area */
+    size_t wave;        /* the first chunk of the wave (sag_offsets) */
     uint32_t *bits;     /* round 0, per 16 triangles t0 + l: bit l set where it
                            folds, bit 16 + l where a corner faces away */
 } fin;
@@ -375,15 +376,17 @@ static void sag_task(void *arg, size_t k, int worker)
 {
     (void)worker;
     const fin *F = arg;
-    const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt;
+    k += F->wave;
+    const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt, b = F->wave * FIN_CHUNK;
+    float *as = F->as - b, *area = F->area - b; /* (indexed by triangle) */
     size_t t = k * FIN_CHUNK;
-    for (; F->lanes == 16 && t + 16 <= t1; t += 16) jm_finish_sag16(F->P, F->N, F->idx, t, F->as + t, F->area + t);
-    for (; F->lanes >= 8 && t + 8 <= t1; t += 8) jm_finish_sag8(F->P, F->N, F->idx, t, F->as + t, F->area + t);
+    for (; F->lanes == 16 && t + 16 <= t1; t += 16) jm_finish_sag16(F->P, F->N, F->idx, t, as + t, area + t);
+    for (; F->lanes >= 8 && t + 8 <= t1; t += 8) jm_finish_sag8(F->P, F->N, F->idx, t, as + t, area + t);
     for (; t < t1; t++) {
         float len, cr[4];
         const float sag = tri_sag(F->P, F->N, F->idx + 3 * t, &len, cr);
-        F->area[t] = 0.5f * len;
-        F->as[t] = F->area[t] * sag * (1.0f / 24.0f);
+        area[t] = 0.5f * len;
+        as[t] = area[t] * sag * (1.0f / 24.0f);
     }
 }
 
@@ -411,17 +414,24 @@ static void fold0_task(void *arg, size_t k, int worker)
  * its triangles, at most max_sag either way. */
 static int sag_offsets(jm_mem *mem, jm_pool *pool, fin *F, float *A, float *D, size_t nv, float max_sag)
 {
-    const size_t nt = F->nt, nch = (nt + FIN_CHUNK - 1) / FIN_CHUNK;
-    F->as = jm_alloc(mem, 2 * (nt + 1) * sizeof(float));
+    /* in waves of 4 chunks a thread: the triangles' sags on the threads,
+     * then added to their vertices in triangle order */
+    const size_t nt = F->nt, nch = (nt + FIN_CHUNK - 1) / FIN_CHUNK, per = 4 * (size_t)jm_pool_threads(pool);
+    const size_t bytes = 2 * per * FIN_CHUNK * sizeof(float);
+    F->as = jm_alloc(mem, bytes);
     if (!F->as) return 0;
-    F->area = F->as + nt + 1;
-    jm_pool_run(pool, nch, 1, sag_task, F);
+    F->area = F->as + per * FIN_CHUNK;
     memset(A, 0, 2 * nv * sizeof(float));
-    for (size_t t = 0; t < nt; t++) {
-        const uint32_t *vi = F->idx + 3 * t;
-        for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], F->as[t], F->area[t]);
+    for (F->wave = 0; F->wave < nch; F->wave += per) {
+        const size_t m = nch - F->wave < per ? nch - F->wave : per, b = F->wave * FIN_CHUNK;
+        jm_pool_run(pool, m, 1, sag_task, F);
+        const size_t e = (F->wave + m) * FIN_CHUNK < nt ? (F->wave + m) * FIN_CHUNK : nt;
+        for (size_t t = b; t < e; t++) {
+            const uint32_t *vi = F->idx + 3 * t;
+            for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], F->as[t - b], F->area[t - b]);
+        }
     }
-    jm_free(mem, F->as, 2 * (nt + 1) * sizeof(float));
+    jm_free(mem, F->as, bytes);
     F->as = F->area = NULL;
     for (size_t i = 0; i < nv; i++) {
         float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
@@ -531,7 +541,7 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
     uint8_t *flag = (uint8_t *)acc, *changed = (uint8_t *)acc + nv;
     /* 16 triangles a pass where the CPU can (metafinish16.c), else 8
      * (metafinish8.c): the same bits as one at a time */
-    fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, NULL};
+    fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, 0, NULL};
     rounds R = {NULL, NULL, NULL, FINISH_LIST(nt), 0, 0, 1, NULL};
     const size_t tbsz = (nt / 64 + 1) * sizeof *R.tbits;
     R.tbits = jm_alloc(mem, tbsz);
