@@ -1,8 +1,10 @@
 /* alloc.c - counted heap allocation: every byte a context holds is tracked for peak and limits. */
 #include "internal.h"
+#include "keep.h"
 #include <stdlib.h>
 #include <stdatomic.h>
 #include <stdint.h>
+#include <string.h>
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
@@ -35,6 +37,10 @@ static void *huge(void *p, size_t bytes)
     if (bytes >= HUGE_MIN) jm_huge_advise(p, bytes);
     return p;
 }
+
+static _Atomic size_t heap_calls;
+void jm_heap_note(void) { atomic_fetch_add_explicit(&heap_calls, 1, memory_order_relaxed); }
+size_t jm_heap_calls(void) { return atomic_load(&heap_calls); }
 
 /* The counters are updated from worker threads, hence atomics. */
 static void count_add(jm_mem *a, size_t bytes)
@@ -85,13 +91,60 @@ int jm_mul_size(size_t a, size_t b, size_t *out)
     return 1;
 }
 
+/* A context's blocks of at most JM_KEEP_MAX bytes come from its kept
+ * blocks and go back to them (keep.h); everything else from malloc. */
+static int kept(const jm_mem *m, size_t bytes) { return m && m->keep && bytes <= JM_KEEP_MAX; }
+
+void *jm_raw_alloc(jm_mem *m, size_t bytes)
+{
+    if (bytes == 0) bytes = 1;
+    jm_heap_note();
+    return malloc(kept(m, bytes) ? jm_keep_class_bytes(bytes) : bytes);
+}
+
+void jm_raw_free(jm_mem *m, void *p, size_t bytes)
+{
+    if (!p) return;
+    if (bytes == 0) bytes = 1;
+    if (kept(m, bytes)) jm_keep_give(m->keep, p, bytes);
+    else {
+        jm_heap_note();
+        free(p);
+    }
+}
+
 void *jm_alloc(jm_mem *m, size_t bytes)
 {
     if (bytes == 0) bytes = 1;
     if (m && !count_take(m, bytes)) return NULL;
-    void *p = malloc(bytes);
+    if (!kept(m, bytes)) jm_heap_note();
+    void *p = kept(m, bytes) ? jm_keep_take(m->keep, bytes) : malloc(bytes);
     if (!p && m) count_sub(m, bytes);
     return huge(p, bytes);
+}
+
+void *jm_alloc_lasting(jm_mem *m, size_t bytes)
+{
+    if (bytes == 0) bytes = 1;
+    if (m && !count_take(m, bytes)) return NULL;
+    void *p = jm_raw_alloc(m, bytes);
+    if (!p && m) count_sub(m, bytes);
+    return huge(p, bytes);
+}
+
+void *jm_realloc_lasting(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
+{
+    if (new_bytes == 0) new_bytes = 1;
+    if (!p) old_bytes = 0;
+    const size_t ob = old_bytes ? old_bytes : 1;
+    if (!kept(m, new_bytes) && !(p && kept(m, ob))) return jm_realloc(m, p, old_bytes, new_bytes);
+    if (p && kept(m, ob) && kept(m, new_bytes) && jm_keep_class_bytes(ob) == jm_keep_class_bytes(new_bytes))
+        return jm_realloc(m, p, old_bytes, new_bytes); /* the same block */
+    void *q = jm_alloc_lasting(m, new_bytes);
+    if (!q) return NULL;
+    if (p) memcpy(q, p, old_bytes < new_bytes ? old_bytes : new_bytes);
+    jm_free(m, p, old_bytes);
+    return q;
 }
 
 void *jm_alloc_aligned(jm_mem *m, size_t bytes, size_t align)
@@ -99,6 +152,7 @@ void *jm_alloc_aligned(jm_mem *m, size_t bytes, size_t align)
     if (bytes == 0) bytes = 1;
     if (m && !count_take(m, bytes)) return NULL;
     void *p = NULL;
+    jm_heap_note();
     if (posix_memalign(&p, align, bytes) != 0) p = NULL;
     if (!p && m) count_sub(m, bytes);
     return huge(p, bytes);
@@ -109,7 +163,13 @@ void *jm_calloc(jm_mem *m, size_t n, size_t size)
     size_t bytes;
     if (!jm_mul_size(n, size, &bytes)) return NULL;
     if (bytes == 0) bytes = 1;
+    if (kept(m, bytes)) {
+        void *p = jm_alloc(m, bytes);
+        if (p) memset(p, 0, bytes);
+        return p;
+    }
     if (m && !count_take(m, bytes)) return NULL;
+    jm_heap_note();
     void *p = calloc(1, bytes);
     if (!p && m) count_sub(m, bytes);
     return huge(p, bytes);
@@ -119,8 +179,23 @@ void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
 {
     if (new_bytes == 0) new_bytes = 1;
     if (!p) old_bytes = 0;
+    if (kept(m, new_bytes) || (p && kept(m, old_bytes ? old_bytes : 1))) {
+        const size_t ob = old_bytes ? old_bytes : 1;
+        if (p && kept(m, ob) && kept(m, new_bytes) && jm_keep_class_bytes(ob) == jm_keep_class_bytes(new_bytes)) {
+            /* the block holds both sizes: only the count changes */
+            if (new_bytes > ob && !count_take(m, new_bytes - ob)) return NULL;
+            if (new_bytes < ob) count_sub(m, ob - new_bytes);
+            return p;
+        }
+        void *q = jm_alloc(m, new_bytes);
+        if (!q) return NULL;
+        if (p) memcpy(q, p, old_bytes < new_bytes ? old_bytes : new_bytes);
+        jm_free(m, p, old_bytes);
+        return q;
+    }
     size_t grow = new_bytes > old_bytes ? new_bytes - old_bytes : 0;
     if (m && grow && !count_take(m, grow)) return NULL;
+    jm_heap_note();
     void *q = huge(realloc(p, new_bytes), new_bytes);
     if (!q) {
         if (m && grow) count_sub(m, grow);
@@ -133,6 +208,6 @@ void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
 void jm_free(jm_mem *m, void *p, size_t bytes)
 {
     if (!p) return;
-    free(p);
+    jm_raw_free(m, p, bytes);
     if (m) count_sub(m, bytes == 0 ? 1 : bytes);
 }

@@ -293,7 +293,7 @@ int jm_aniso_candidates(const jm_grid *g, const jm_hood *hood, const float lo[3]
     const float x0 = lo[0] - margin, x1 = hi[0] + margin, y0 = lo[1] - margin, y1 = hi[1] + margin;
     const float z0 = lo[2] - margin, z1 = hi[2] + margin;
     if (hood->particles > out->cap) {
-        uint32_t *b = jm_realloc(out->mem, out->idx, out->cap * sizeof *b, hood->particles * sizeof *b);
+        uint32_t *b = jm_realloc_lasting(out->mem, out->idx, out->cap * sizeof *b, hood->particles * sizeof *b);
         if (!b) return 0;
         out->idx = b;
         out->cap = hood->particles;
@@ -331,7 +331,7 @@ void jm_aniso_gather(const jm_grid *g, const jm_an_cand *cand, const float lo[3]
             continue;
         if (out->n + 8 > out->cap) {
             size_t nc = out->cap ? out->cap * 2 : 1024;
-            float *b = jm_realloc(out->mem, out->buf, 10 * out->cap * sizeof *b, 10 * nc * sizeof *b);
+            float *b = jm_realloc_lasting(out->mem, out->buf, 10 * out->cap * sizeof *b, 10 * nc * sizeof *b);
             if (!b) { out->n = SIZE_MAX; return; }
             out->buf = b;
             out->cap = nc;

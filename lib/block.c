@@ -5,6 +5,8 @@
 #include "aniso_splat.h"
 #include "cull.h"
 #include "inside_boxes.h"
+#include "metaroot.h"
+#include "metasplat.h"
 #include "metavertex.h"
 #include "splat.h"
 #include "tables.h"
@@ -67,6 +69,7 @@ void jm_scratch_free(jm_scratch *s)
     free(s->an_list.buf);
     free(s->an_cand.idx);
     jm_probe_free(&s->probe);
+    jm_roots_free(&s->roots);
     jm_mnorm_free(&s->mnorm);
     free(s->part);
     free(s->span);
@@ -99,7 +102,7 @@ static int grow(jm_mem *mem, void **p, size_t *cap, size_t need, size_t width)
     if (need <= *cap) return 1;
     size_t nc = *cap ? *cap : 256;
     while (nc < need) nc *= 2;
-    void *q = jm_realloc(mem, *p, *cap * width, nc * width);
+    void *q = jm_realloc_lasting(mem, *p, *cap * width, nc * width);
     if (!q) return 0;
     *p = q;
     *cap = nc;
@@ -110,102 +113,23 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
 {
     if (o->nv < o->capv) return 1;
     size_t nc = o->capv ? o->capv * 2 : 256;
-    float *p = jm_realloc(mem, o->pos, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
+    float *p = jm_realloc_lasting(mem, o->pos, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float));
     if (p) o->pos = p;
-    float *n = p ? jm_realloc(mem, o->nrm, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float)) : NULL;
+    float *n = p ? jm_realloc_lasting(mem, o->nrm, o->capv * 3 * sizeof(float), nc * 3 * sizeof(float)) : NULL;
     if (n) o->nrm = n;
-    float *u = n ? jm_realloc(mem, o->uv, o->capv * 2 * sizeof(float), nc * 2 * sizeof(float)) : NULL;
+    float *u = n ? jm_realloc_lasting(mem, o->uv, o->capv * 2 * sizeof(float), nc * 2 * sizeof(float)) : NULL;
     if (u) o->uv = u;
-    uint32_t *cd = u ? jm_realloc(mem, o->cand, o->capv * 2 * sizeof(uint32_t), nc * 2 * sizeof(uint32_t)) : NULL;
+    uint32_t *cd = u ? jm_realloc_lasting(mem, o->cand, o->capv * 2 * sizeof(uint32_t), nc * 2 * sizeof(uint32_t)) : NULL;
     if (cd) o->cand = cd;
     if (!p || !n || !u || !cd) {
         /* keep the accounting right: shrink back what did grow */
-        if (p) o->pos = jm_realloc(mem, o->pos, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
-        if (n) o->nrm = jm_realloc(mem, o->nrm, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
-        if (u) o->uv = jm_realloc(mem, o->uv, nc * 2 * sizeof(float), o->capv * 2 * sizeof(float));
+        if (p) o->pos = jm_realloc_lasting(mem, o->pos, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        if (n) o->nrm = jm_realloc_lasting(mem, o->nrm, nc * 3 * sizeof(float), o->capv * 3 * sizeof(float));
+        if (u) o->uv = jm_realloc_lasting(mem, o->uv, nc * 2 * sizeof(float), o->capv * 2 * sizeof(float));
         return 0;
     }
     o->capv = nc;
     return 1;
-}
-
-/* The edge's two pieces at a point: values (-inf where absent), unit
- * normals, the winner's index. */
-typedef struct cand_pt {
-    float v[2], nk[2][3];
-    int w;
-} cand_pt;
-
-/* Metasphere at p, from the pieces that won at the edge's two nodes (the
- * field is their maximum near the edge, but see jm_meta_probe): returns
- * the value; n gets the winning piece's outward normal, *glen its gradient
- * length and *win the piece, *cp both pieces there. */
-static float cand_eval(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float p[3], float n[3],
-                       float *glen, cand_pt *cp, uint32_t *win)
-{
-    float gk[2] = {0, 0};
-    cp->v[0] = cp->v[1] = -INFINITY;
-    for (int k = 0; k < 2; k++)
-        if (cand[k] != UINT32_MAX && (k == 0 || cand[1] != cand[0]))
-            cp->v[k] = jm_prim_eval(g, c, cand[k], p, cp->nk[k], &gk[k]);
-    const int w = cp->v[1] > cp->v[0];
-    cp->w = w;
-    if (cp->v[w] == -INFINITY) return -INFINITY;
-    memcpy(n, cp->nk[w], sizeof cp->nk[w]);
-    *glen = gk[w];
-    *win = cand[w];
-    return cp->v[w];
-}
-
-/* The metasphere's crossing on edge a + t ab: the linear estimate t is
- * refined on the exact function (directly for a single ball, else by
- * safeguarded Newton steps), so vertices lie on the surface, not on the
- * chord of the samples. *win gets the piece winning at the last point
- * evaluated. */
-static float refine_root(const jm_grid *g, const jm_config *c, const uint32_t cand[2], const float a[3],
-                         const float ab[3], float fa, float t, uint32_t *win)
-{
-    uint32_t one = cand[0] == UINT32_MAX ? cand[1] : cand[0];
-    *win = one;
-    if ((cand[1] == UINT32_MAX || cand[1] == one) && one < g->n) {
-        /* a single ball: |a + t ab - q| = r (1 - threshold), solved directly */
-        const float *q = &g->pos[3 * (size_t)one];
-        float R = c->r * (1.0f - c->threshold);
-        float w[3] = {a[0] - q[0], a[1] - q[1], a[2] - q[2]};
-        float A = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-        float Bh = w[0] * ab[0] + w[1] * ab[1] + w[2] * ab[2];
-        float C = w[0] * w[0] + w[1] * w[1] + w[2] * w[2] - R * R;
-        float disc = Bh * Bh - A * C;
-        if (disc >= 0.0f) {
-            float sq = sqrtf(disc);
-            float t1 = (-Bh - sq) / A, t2 = (-Bh + sq) / A;
-            float best = fabsf(t1 - t) < fabsf(t2 - t) ? t1 : t2;
-            if (best >= 0.0f && best <= 1.0f) return best;
-        }
-    }
-    /* Newton steps on f(t) = field - threshold along the edge, kept inside
-     * the bracket [ta, tb] (bisecting when a step leaves it) */
-    float ta = 0.0f, tb = 1.0f;
-    const float tol = 1e-3f * c->h / c->r; /* a thousandth of a cube, in units of r */
-    for (int it = 0; it < 4; it++) {
-        float p[3] = {a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]}, n[3] = {0, 0, 0}, glen = 0.0f;
-        cand_pt cp;
-        float f = cand_eval(g, c, cand, p, n, &glen, &cp, win) - c->threshold;
-        if (fabsf(f) < tol) return t;
-        if ((f > 0.0f) == (fa > 0.0f)) ta = t; else tb = t;
-        float df = -glen * (n[0] * ab[0] + n[1] * ab[1] + n[2] * ab[2]);
-        float tn = df != 0.0f ? t - f / df : 0.5f * (ta + tb);
-        if (!(tn > ta && tn < tb)) {
-            tn = 0.5f * (ta + tb);
-        } else if (fabsf(tn - t) < 0.1f) {
-            /* a Newton step of under a tenth of the edge: done (the error
-             * left is second order in the step, about 1e-3 of the edge
-             * here) */
-            return tn;
-        }
-        t = tn;
-    }
-    return t;
 }
 
 /* Sorts (slot, index) pairs by slot. They are made in scan order, so
@@ -248,7 +172,7 @@ static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, cons
     S = S < 1 ? 1 : (S > 4 ? 4 : S);
     const size_t nv = out->nv;
     if (nv > s->cap_order) {
-        uint32_t *o = jm_realloc(s->hood.mem, s->order, s->cap_order * sizeof *o, nv * sizeof *o);
+        uint32_t *o = jm_realloc_lasting(s->hood.mem, s->order, s->cap_order * sizeof *o, nv * sizeof *o);
         if (!o) return 0;
         s->order = o;
         s->cap_order = nv;
@@ -368,12 +292,32 @@ static uint32_t row_configs(const uint8_t *i00, const uint8_t *i10, const uint8_
 }
 #endif
 
+/* The block's metasphere vertices on their edges (metaroot.c): each root
+ * for jm_meta_probe (its point, pt), the vertex kept from the nodes */
+static void meta_roots(const jm_grid *g, const jm_config *c, jm_scratch *s, jm_bout *out)
+{
+    jm_roots *r = &s->roots;
+    jm_roots_solve(g, c, r);
+    for (size_t v = 0; v < r->n; v++) {
+        const float tt = r->t[v], tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+        const float a[3] = {r->ax[v], r->ay[v], r->az[v]}, ab[3] = {r->bx[v], r->by[v], r->bz[v]};
+        float *pt = &s->probe.pt[3 * v], *p = &out->pos[3 * v];
+        s->probe.t[v] = tt;
+        for (int q = 0; q < 3; q++) {
+            pt[q] = a[q] + tt * ab[q];
+            p[q] = a[q] + tc * ab[q];
+        }
+    }
+    r->n = 0;
+}
+
 void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
 {
     const jm_config *c = env->c;
     const jm_grid *g = env->g;
     const jm_block_set *bs = env->blocks;
     jm_bout_reset(out);
+    s->roots.n = 0;
     const int B = s->B, n = B + 1;
     const uint64_t key = bs->key[b];
     const uint64_t mask = (uint64_t)JM_KEY_MAX - 1;
@@ -388,7 +332,10 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     out->cells = (size_t)B * B * B;
 
     double t0 = jm_now_ms();
-    if (!jm_hood_build(&s->hood, g, c, lo, hi)) { out->failed = 1; return; }
+    const int hood_ok = bs->cell_start ? jm_hood_build_listed(&s->hood, g, c, lo, hi, bs->cells + bs->cell_start[b],
+                                                             bs->cell_start[b + 1] - bs->cell_start[b])
+                                       : jm_hood_build(&s->hood, g, c, lo, hi);
+    if (!hood_ok) { out->failed = 1; return; }
     if (s->hood.particles == 0) return;
     /* anisotropic kernels: the ones reaching the block (and the normals'
      * part boxes, a hundredth of a support wider), looked at from here on */
@@ -435,7 +382,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         fv = s->pad;
         fs = JM_PAD(n);
     } else {
-        fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->pad, &fs);
+        fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->rowstate, s->pad, &fs);
     }
     const float thr = c->threshold;
     const size_t nn = (size_t)n * n * n;
@@ -443,9 +390,17 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     /* inside flags, and per node row whether it is all outside (0), all
      * inside (1) or mixed (2) */
     uint8_t *rs = s->rowstate;
+    /* the metasphere's rows no piece reached (metasplat.h, in rowstate
+     * until read here) are all outside */
+    const int splat_rows = c->field == JM_FIELD_METASPHERE;
+    if (splat_rows) memset(s->in, 0, nn);
     for (size_t r = 0; r < (size_t)n * n; r++) {
         const float *f = fv + r * fs;
         uint8_t *in = s->in + r * (size_t)n;
+        if (splat_rows && rs[r] != JM_ROW_SPLAT) {
+            rs[r] = 0;
+            continue;
+        }
         int i0 = 0, i1 = n;
         size_t sum = 0;
         if (span) {
@@ -462,7 +417,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     out->t_field = t1 - t0;
     if (inside == 0 || inside == nn) return;
 
-    const int meta = c->field == JM_FIELD_METASPHERE, np = jm_probe_parts(B);
+    const int meta = c->field == JM_FIELD_METASPHERE;
     const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
     const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
     jm_mem *mem = env->mem;
@@ -516,21 +471,22 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
                             const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
                             const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
                             float tt = (thr - fa) / (fb - fa);
-                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL, win = UINT32_MAX;
+                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL;
                             if (meta) {
+                                /* the root and the position once the
+                                 * block's edges are all found (metaroot.h) */
                                 cv[0] = s->win[na];
                                 cv[1] = s->win[nb];
-                                tt = refine_root(g, c, cv, a, ab, fa - thr, tt, &win);
-                                /* for jm_meta_probe: the edge and the root */
-                                const float pt[3] = {a[0] + tt * ab[0], a[1] + tt * ab[1], a[2] + tt * ab[2]};
-                                if (!jm_probe_add(&s->probe, out->nv, (uint32_t)slot, jm_probe_part(np, ni, nj, nk), tt, pt)) {
+                                if (!jm_roots_add(&s->roots, a, ab, fa - thr, tt, cv) ||
+                                    !jm_probe_add(&s->probe, out->nv, (uint32_t)slot, (uint32_t)(ni | nj << 8 | nk << 16), tt, a)) {
                                     out->failed = 1;
                                     goto done;
                                 }
+                            } else {
+                                float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+                                float *p = &out->pos[3 * out->nv];
+                                for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             }
-                            float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
-                            float *p = &out->pos[3 * out->nv];
-                            for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
                             /* fallback normal: along the edge, from inside to outside */
                             float sign = fa > thr ? 1.0f : -1.0f, inv = inv_len[dv[0] + dv[1] + dv[2]];
                             float *nr = &out->nrm[3 * out->nv];
@@ -576,6 +532,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
 done:
     for (size_t t = 0; t < s->ntouched; t++) s->vt[s->touched[t]] = UINT32_MAX;
     s->ntouched = 0;
+    if (meta && !out->failed) meta_roots(g, c, s, out);
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;

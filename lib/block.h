@@ -5,6 +5,7 @@
 #include "anisotropy.h"
 #include "metaprobe.h"
 #include "metanormal.h"
+#include "metaroot.h"
 
 /* What one block produced. Vertex refs in tri: an owned vertex's local index,
  * or JM_PENDING | k for the k-th (owner block, owner slot) pair in pend. */
@@ -42,6 +43,7 @@ typedef struct jm_scratch {
     size_t cap_order;
     jm_an_list an_list;       /* sph anisotropic: particles near a part, for normals */
     jm_an_cand an_cand;       /* sph anisotropic: the kernels reaching the block */
+    jm_roots roots;           /* metasphere: the vertices' edges and pieces, solved at once */
     jm_probe probe;           /* metasphere: the vertices' edges, checked on every piece */
     jm_mnorm mnorm;           /* metasphere: the vertices' crease normals (metanormal.h) */
     float *part;              /* sph culling: (B+1)^2 * JM_PAD(B+1) partial sums (splat.h) */
@@ -54,7 +56,20 @@ typedef struct jm_block_set {
     uint64_t *key;            /* sorted block keys */
     jm_hashmap map;           /* key -> index */
     int64_t origin[3];        /* block coordinate of relative zero */
+    uint32_t *cell_start;     /* metasphere: count + 1, each block's first in cells */
+    uint32_t *cells;          /* the cells that reach each block (hood_cells.c) */
+    size_t ncells;
 } jm_block_set;
+
+/* The cells with a particle not isolated whose influence reaches each block
+ * of bs (cell_start, cells; the grid's cell coordinates still there): 0 if
+ * out of memory. */
+int jm_block_cells(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs);
+/* jm_hood_build from a block's listed cells: the cells around the box
+ * [lo, hi] not listed hold no particle that reaches it but isolated ones
+ * (which the metasphere's splats skip): their ranges are empty. */
+int jm_hood_build_listed(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3],
+                         const uint32_t *cells, size_t ncells);
 
 typedef struct jm_block_env {
     const jm_grid *g;
@@ -66,6 +81,11 @@ typedef struct jm_block_env {
 int jm_scratch_init(jm_scratch *s, int B);
 size_t jm_scratch_bytes(int B); /* heap bytes of one scratch */
 void jm_scratch_free(jm_scratch *s);
+/* After a frame's blocks (n workers' scratch s): every growing buffer
+ * grown to the largest any worker needed (scratch_even.c), so that the
+ * next frame, its blocks no larger, allocates nothing whichever worker
+ * takes which block. 0 if out of memory (the buffers stay valid). */
+int jm_scratch_even(jm_scratch *s, int n);
 void jm_bout_reset(jm_bout *o);
 void jm_bout_free(jm_bout *o, jm_mem *mem);
 

@@ -15,46 +15,6 @@
  * bubble, or a hollow in the particle data) is kept.
  */
 
-/* The signed volume of the tetrahedron (o, pa, pb, pc): a . (b x c) / 6
- * with a = pa - o (and so on) in double, the SSE2 version doing the same
- * operations on pairs of lanes (the same bits; variant 1 of
- * t_splat_variants.sh builds the plain one). */
-#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
-#include <emmintrin.h>
-static inline double volume_term(const float *pa, const float *pb, const float *pc, const double o[3])
-{
-    const __m128d o01 = _mm_loadu_pd(o), o2 = _mm_set_sd(o[2]);
-    /* (x, y) and z of each corner, less o */
-    const __m128d a01 = _mm_sub_pd(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)pa))), o01);
-    const __m128d b01 = _mm_sub_pd(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)pb))), o01);
-    const __m128d c01 = _mm_sub_pd(_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64((const __m128i *)pc))), o01);
-    const __m128d a2 = _mm_sub_sd(_mm_cvtss_sd(_mm_setzero_pd(), _mm_load_ss(pa + 2)), o2);
-    const __m128d b2 = _mm_sub_sd(_mm_cvtss_sd(_mm_setzero_pd(), _mm_load_ss(pb + 2)), o2);
-    const __m128d c2 = _mm_sub_sd(_mm_cvtss_sd(_mm_setzero_pd(), _mm_load_ss(pc + 2)), o2);
-    /* (b1 c2 - b2 c1, b0 c2 - b2 c0) */
-    const __m128d b2b2 = _mm_unpacklo_pd(b2, b2), c2c2 = _mm_unpacklo_pd(c2, c2);
-    const __m128d m = _mm_sub_pd(_mm_mul_pd(_mm_shuffle_pd(b01, b01, 1), c2c2), _mm_mul_pd(b2b2, _mm_shuffle_pd(c01, c01, 1)));
-    /* (a0 m0, a1 m1), then b0 c1 - b1 c0 */
-    const __m128d am = _mm_mul_pd(a01, m);
-    const __m128d bc = _mm_mul_pd(b01, _mm_shuffle_pd(c01, c01, 1));
-    const double m2 = _mm_cvtsd_f64(_mm_sub_sd(bc, _mm_unpackhi_pd(bc, bc)));
-    const double s = _mm_cvtsd_f64(_mm_sub_sd(am, _mm_unpackhi_pd(am, am))) + _mm_cvtsd_f64(a2) * m2;
-    return s / 6.0;
-}
-#else
-static inline double volume_term(const float *pa, const float *pb, const float *pc, const double o[3])
-{
-    double a[3], b[3], c[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = pa[k] - o[k];
-        b[k] = pb[k] - o[k];
-        c[k] = pc[k] - o[k];
-    }
-    return (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-            a[2] * (b[0] * c[1] - b[1] * c[0])) / 6.0;
-}
-#endif
-
 /*
  * The pieces' signed volumes, summed on the pool's threads in a fixed order
  * that does not depend on their number: the triangles in chunks of
@@ -82,23 +42,43 @@ typedef struct {
     int failed;
 } vol_job;
 
+/* The signed volumes of the tetrahedra (o, pa, pb, pc) of triangles t ..
+ * t + 3, a . (b x c) / 6 with a = pa - o (and so on) in double: 4 lanes
+ * of GCC vectors, each lane the same double operations in the same order
+ * on every path (the lanes past b repeat the last triangle) */
+typedef double v4d __attribute__((vector_size(32)));
+static inline __attribute__((always_inline)) v4d terms4(const vol_job *j, size_t t, size_t b)
+{
+    v4d c[3][3];
+    for (int l = 0; l < 4; l++) {
+        const uint32_t *i = j->idx + 3 * (t + (size_t)l < b ? t + (size_t)l : b - 1);
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++) c[k][a][l] = (double)j->pos[3 * (size_t)i[k] + a] - j->o[a];
+    }
+    const v4d m0 = c[1][1] * c[2][2] - c[1][2] * c[2][1], m1 = c[1][0] * c[2][2] - c[1][2] * c[2][0];
+    const v4d m2 = c[1][0] * c[2][1] - c[1][1] * c[2][0];
+    return (c[0][0] * m0 - c[0][1] * m1 + c[0][2] * m2) / 6.0;
+}
+
 /* chunk k's runs into out (room for cap; the count is returned either way) */
-static size_t chunk_runs(const vol_job *j, size_t k, vol_run *out, size_t cap)
+JM_CLONES_AVX2 static size_t chunk_runs(const vol_job *j, size_t k, vol_run *out, size_t cap)
 {
     const size_t a = k * VOL_CHUNK, b = a + VOL_CHUNK < j->nt ? a + VOL_CHUNK : j->nt;
     size_t nr = 0;
     uint32_t cur = j->parent[j->idx[3 * a]];
     double acc = 0.0;
-    for (size_t t = a; t < b; t++) {
-        const uint32_t *i = j->idx + 3 * t;
-        const uint32_t root = j->parent[i[0]];
-        if (root != cur) {
-            if (nr < cap) out[nr] = (vol_run){cur, acc};
-            nr++;
-            cur = root;
-            acc = 0.0;
+    for (size_t t = a; t < b; t += 4) {
+        const v4d v = terms4(j, t, b);
+        for (int l = 0; l < 4 && t + (size_t)l < b; l++) {
+            const uint32_t root = j->parent[j->idx[3 * (t + (size_t)l)]];
+            if (root != cur) {
+                if (nr < cap) out[nr] = (vol_run){cur, acc};
+                nr++;
+                cur = root;
+                acc = 0.0;
+            }
+            acc += v[l];
         }
-        acc += volume_term(j->pos + 3 * (size_t)i[0], j->pos + 3 * (size_t)i[1], j->pos + 3 * (size_t)i[2], j->o);
     }
     if (nr < cap) out[nr] = (vol_run){cur, acc};
     return nr + 1;

@@ -79,10 +79,11 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
  * metasphere, stride n; in pad for SPH, stride JM_PAD(n); the anisotropic
  * kernels: aniso_splat.h).
  * Metasphere: win[node] (stride n) receives the primitive that gave the
- * node's value (UINT32_MAX where clamped); see jm_prim_eval. */
+ * node's value (UINT32_MAX where clamped); see jm_prim_eval; only the rows
+ * rows[k n + j] says are written (metasplat.h). */
 const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                             const float *y, const float *z, int n, float *f, uint32_t *win, float *pad,
-                             size_t *out_stride);
+                             const float *y, const float *z, int n, float *f, uint32_t *win, uint8_t *rows,
+                             float *pad, size_t *out_stride);
 
 /* Row length of the padded sampling buffer (n^2 rows): a multiple of 8 with
  * room for a run of 8 starting at any of the n nodes. */

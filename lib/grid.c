@@ -1,5 +1,6 @@
 /* grid.c - sorts particles into cells (counting sort) and computes densities, links and isolation. */
 #include "grid.h"
+#include "sort.h"
 #include "cpu.h"
 #include "cubic8.h"
 #include "anisotropy.h"
@@ -191,6 +192,7 @@ static jm_status bound_all(jm_pool *pool, jm_mem *mem, const char *base, size_t 
 typedef struct {
     const jm_grid *g;
     double *part; /* per chunk */
+    size_t *most; /* per chunk: the most particles around a cell */
 } pair_job;
 
 static void pair_task(void *arg, size_t chunk, int worker)
@@ -200,14 +202,17 @@ static void pair_task(void *arg, size_t chunk, int worker)
     const jm_grid *g = j->g;
     const size_t a = chunk * PAIR_CH, b = a + PAIR_CH < g->ncells ? a + PAIR_CH : g->ncells;
     double pairs = 0.0;
+    size_t most = 0;
     uint32_t rr[27][2];
     for (size_t ci = a; ci < b; ci++) {
         const int nr = near_ranges(g, ci, rr);
         size_t around = 0;
         for (int k = 0; k < nr; k++) around += rr[k][1] - rr[k][0];
         pairs += (double)(g->cell_start[ci + 1] - g->cell_start[ci]) * (double)around;
+        if (around > most) most = around;
     }
     j->part[chunk] = pairs;
+    j->most[chunk] = most;
 }
 
 /* Placement: particle k (input order, or order[k]) into the next free
@@ -453,10 +458,11 @@ static int keyed(const jm_config *c) { return c->field == JM_FIELD_SPH && atomic
 
 /* An array of a grid: where it can be released and spans a page at least,
  * aligned to the page and advised huge */
-static void *grid_alloc(const jm_config *c, jm_mem *mem, size_t bytes)
+static void *grid_alloc(const jm_config *c, jm_grid *g, jm_mem *mem, size_t bytes)
 {
     const size_t ps = rel_page();
     if (!keyed(c) || bytes < ps) return jm_alloc(mem, bytes);
+    g->aligned_min = ps;
     void *p = jm_alloc_aligned(mem, bytes, ps);
     jm_huge_advise(p, bytes);
     return p;
@@ -467,11 +473,8 @@ typedef struct {
     uint32_t id;
 } key_id;
 
-static int cmp_key_id(const void *a, const void *b)
-{
-    uint64_t x = ((const key_id *)a)->key, y = ((const key_id *)b)->key;
-    return x < y ? -1 : x > y;
-}
+static inline int key_less(const key_id *a, const key_id *b) { return a->key < b->key; }
+JM_SORT_DEFINE(sort_key_id, key_id, key_less)
 
 /* Renumbers the cells of the first pass (count: 4 entries a cell, the count
  * then the absolute coordinates; numbered by first appearance) in key
@@ -500,7 +503,7 @@ static jm_status key_order(jm_grid *g, jm_mem *mem, uint32_t **count, size_t *co
                                (int64_t)(int32_t)e[3] - g->origin[2]);
             k[i].id = (uint32_t)i;
         }
-        qsort(k, ncells, sizeof *k, cmp_key_id); /* keys are distinct */
+        sort_key_id(k, ncells); /* keys are distinct */
         uint32_t *to = (uint32_t *)k; /* old number -> new, in place of the pairs' first half */
         for (size_t i = 0; i < ncells; i++) rank[i] = k[i].id;
         for (size_t i = 0; i < ncells; i++) to[rank[i]] = (uint32_t)i;
@@ -550,10 +553,16 @@ static void release_prefix(jm_mem *mem, void *base, size_t prefix, size_t *rel)
 #endif
 }
 
-/* Frees an array of `bytes` (as counted when taken) of which rel were released. */
-static void free_released(jm_mem *mem, void *p, size_t bytes, size_t rel)
+/* Frees an array of `bytes` (as counted when taken) of which rel were
+ * released; aligned_min: as in jm_grid (an array from jm_alloc goes back
+ * through jm_free, to the context's kept blocks). */
+static void free_released(jm_mem *mem, void *p, size_t bytes, size_t rel, size_t aligned_min)
 {
     if (!p) return;
+    if (!rel && (!aligned_min || (bytes ? bytes : 1) < aligned_min)) {
+        jm_free(mem, p, bytes);
+        return;
+    }
 #if defined(__linux__)
     if (rel && atomic_load(&mode_release) == 2) {
         mprotect(p, rel, PROT_READ | PROT_WRITE);
@@ -582,11 +591,8 @@ void jm_grid_release_below(jm_grid *g, jm_mem *mem, int64_t cz)
     }
 }
 
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
+static inline int u64_less(const uint64_t *a, const uint64_t *b) { return *a < *b; }
+JM_SORT_DEFINE(sort_u64, uint64_t, u64_less)
 
 int jm_grid_isolated(const jm_grid *g, jm_mem *mem, uint32_t *out)
 {
@@ -604,7 +610,7 @@ int jm_grid_isolated(const jm_grid *g, jm_mem *mem, uint32_t *out)
     for (size_t ci = 0; ci < g->ncells; ci++)
         for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++)
             if (g->isolated[i]) pair[k++] = (uint64_t)g->first_rank[ci] << 32 | i;
-    qsort(pair, k, sizeof *pair, cmp_u64);
+    sort_u64(pair, k); /* distinct */
     for (size_t i = 0; i < k; i++) out[i] = (uint32_t)pair[i];
     jm_free(mem, pair, bytes);
     return 1;
@@ -613,20 +619,21 @@ int jm_grid_isolated(const jm_grid *g, jm_mem *mem, uint32_t *out)
 void jm_grid_free(jm_grid *g, jm_mem *mem)
 {
     size_t n = g->n;
-    free_released(mem, g->pos, 3 * n * sizeof(float), g->rel[0]);
-    free_released(mem, g->weight, n * sizeof(float), g->rel[1]);
+    free_released(mem, g->pos, 3 * n * sizeof(float), g->rel[0], g->aligned_min);
+    free_released(mem, g->weight, n * sizeof(float), g->rel[1], g->aligned_min);
     jm_free(mem, g->nb_start, (n + 1) * sizeof(uint32_t));
     jm_free(mem, g->nb, g->nb_count * sizeof(uint32_t));
     jm_free(mem, g->nb_owner, g->nb_count * sizeof(uint32_t));
     jm_free(mem, g->nb_dir, g->nb_count * 4 * sizeof(float));
-    free_released(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t), g->rel[3]);
+    free_released(mem, g->cell_start, (g->ncells + 1) * sizeof(uint32_t), g->rel[3], g->aligned_min);
     jm_free(mem, g->cell_coord, 3 * g->ncells * sizeof(int32_t));
     jm_free(mem, g->cell_wsum, (g->ncells ? g->ncells : 1) * sizeof *g->cell_wsum);
     jm_free(mem, g->cell_live, (g->ncells ? g->ncells : 1) * sizeof *g->cell_live);
-    free_released(mem, g->isolated, n, g->rel[2]);
+    free_released(mem, g->isolated, n, g->rel[2], g->aligned_min);
     jm_aniso_free(g, mem);
     if (g->cells.keys) jm_hashmap_free(&g->cells, mem);
-    free_released(mem, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense, g->rel[4]);
+    free_released(mem, g->dense, (size_t)(g->dense_n[0] * g->dense_n[1] * g->dense_n[2]) * sizeof *g->dense, g->rel[4],
+                  g->aligned_min);
     jm_free(mem, g->first_rank, g->ncells * sizeof *g->first_rank);
     jm_free(mem, g->slab_first, (g->slab_n + 1) * sizeof *g->slab_first);
     memset(g, 0, sizeof *g);
@@ -699,7 +706,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             g->dense_lo[a] = clo[a];
             g->dense_n[a] = (int64_t)floorf(hi[a] * g->inv_cell) - clo[a] + 1;
         }
-        g->dense = grid_alloc(c, mem, (size_t)box * sizeof *g->dense);
+        g->dense = grid_alloc(c, g, mem, (size_t)box * sizeof *g->dense);
         if (!g->dense) st = JM_E_OUT_OF_MEMORY;
         else memset(g->dense, 0xff, (size_t)box * sizeof *g->dense);
     } else {
@@ -768,10 +775,10 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
         if (st != JM_OK) goto fail;
     }
     const size_t start_bytes = (ncells + 1) * sizeof *g->cell_start, pos_bytes = (n ? 3 * n : 1) * sizeof(float);
-    g->cell_start = grid_alloc(c, mem, start_bytes);
+    g->cell_start = grid_alloc(c, g, mem, start_bytes);
     g->cell_coord = jm_alloc(mem, (ncells ? 3 * ncells : 1) * sizeof *g->cell_coord);
-    g->pos = grid_alloc(c, mem, pos_bytes);
-    g->isolated = grid_alloc(c, mem, n ? n : 1);
+    g->pos = grid_alloc(c, g, mem, pos_bytes);
+    g->isolated = grid_alloc(c, g, mem, n ? n : 1);
     if (g->isolated) memset(g->isolated, 0, n ? n : 1);
     if (!g->cell_start || !g->cell_coord || !g->pos || !g->isolated) { st = JM_E_OUT_OF_MEMORY; goto fail; }
     uint32_t acc = 0;
@@ -802,14 +809,18 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
      * cell against those of the 27 cells around it; refuse before it starts
      * when that is beyond JM_MAX_PAIR_CHECKS (a frame of duplicates, or a
      * radius far too large, would otherwise take hours) */
+    size_t most = 0; /* the most particles around a cell (sph_cell's buffers) */
     {
         const size_t nch = (ncells + PAIR_CH - 1) / PAIR_CH;
-        double *part = jm_alloc(mem, (nch ? nch : 1) * sizeof *part), pairs = 0.0;
+        double *part = jm_alloc(mem, (nch ? nch : 1) * (sizeof *part + sizeof(size_t))), pairs = 0.0;
         if (!part) { st = JM_E_OUT_OF_MEMORY; goto fail; }
-        pair_job pj = {g, part};
+        pair_job pj = {g, part, (size_t *)(part + (nch ? nch : 1))};
         jm_pool_run(pool, nch, 1, pair_task, &pj);
-        for (size_t k = 0; k < nch; k++) pairs += part[k];
-        jm_free(mem, part, (nch ? nch : 1) * sizeof *part);
+        for (size_t k = 0; k < nch; k++) {
+            pairs += part[k];
+            if (pj.most[k] > most) most = pj.most[k];
+        }
+        jm_free(mem, part, (nch ? nch : 1) * (sizeof *part + sizeof(size_t)));
         if (pairs > JM_MAX_PAIR_CHECKS(n)) { st = JM_E_TOO_DENSE; goto fail; }
     }
 
@@ -821,7 +832,7 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
     job.iso2 = iso * iso;
     job.range = (int)ceilf(iso / c->cell);
     if (c->field == JM_FIELD_SPH) {
-        g->weight = grid_alloc(c, mem, (n ? n : 1) * sizeof(float));
+        g->weight = grid_alloc(c, g, mem, (n ? n : 1) * sizeof(float));
         g->cell_wsum = jm_alloc(mem, (ncells ? ncells : 1) * sizeof *g->cell_wsum);
         g->cell_live = jm_alloc(mem, (ncells ? ncells : 1) * sizeof *g->cell_live);
         if (!g->weight || !g->cell_wsum || !g->cell_live) { st = JM_E_OUT_OF_MEMORY; goto fail; }
@@ -834,7 +845,16 @@ jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config 
             st = JM_E_OUT_OF_MEMORY;
             goto fail;
         }
-        jm_pool_run(pool, ncells, 16, sph_cell, &job);
+        /* every worker's buffer at once as large as the largest cell needs:
+         * the same blocks whichever worker takes which cells (a context's
+         * next frame then finds them again, keep.h) */
+        for (int w = 0; w < nt && !job.failed; w++) {
+            const size_t cap = (most + 7) & ~(size_t)7;
+            job.soa[w] = jm_alloc(mem, 6 * (cap ? cap : 8) * sizeof(float));
+            if (job.soa[w]) job.soa_cap[w] = cap ? cap : 8;
+            else job.failed = 1;
+        }
+        if (!job.failed) jm_pool_run(pool, ncells, 16, sph_cell, &job);
         for (int w = 0; w < nt; w++) jm_free(mem, job.soa[w], 6 * job.soa_cap[w] * sizeof(float));
         jm_free(mem, job.soa, (size_t)nt * sizeof *job.soa);
         jm_free(mem, job.soa_cap, (size_t)nt * sizeof *job.soa_cap);

@@ -15,6 +15,8 @@ typedef struct jm_mem {
                               current past it fails (NULL) and sets over */
     _Atomic int over;      /* an allocation was refused for the limit */
     _Atomic size_t refused; /* the largest total such an allocation needed */
+    struct jm_keep *keep;  /* a context's: its freed blocks kept for its next
+                              allocations (keep.h); NULL: none */
 } jm_mem;
 void jm_mem_add(jm_mem *m, size_t bytes); /* count memory allocated elsewhere */
 void jm_mem_sub(jm_mem *m, size_t bytes);
@@ -29,6 +31,23 @@ void *jm_calloc(jm_mem *m, size_t n, size_t size);
 void *jm_alloc_aligned(jm_mem *m, size_t bytes, size_t align);
 void *jm_realloc(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes);
 void jm_free(jm_mem *m, void *p, size_t bytes);
+/* For the arrays a context keeps from frame to frame (its mesh, the
+ * workers' scratch and block outputs): as jm_alloc and jm_realloc, but a
+ * new block never comes from m's kept blocks (keep.h), which stay for the
+ * frame's passing arrays: a frame then finds every block the last one
+ * freed (a growing array would otherwise take one for good); freed, they
+ * are kept like any other. */
+void *jm_alloc_lasting(jm_mem *m, size_t bytes);
+void *jm_realloc_lasting(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes);
+/* Allocates or frees, uncounted, as jm_alloc_lasting and jm_free do (for
+ * memory counted elsewhere: grow.c); m may be NULL. */
+void *jm_raw_alloc(jm_mem *m, size_t bytes);
+void jm_raw_free(jm_mem *m, void *p, size_t bytes);
+/* Every call the library makes to malloc, calloc, realloc, posix_memalign,
+ * free, mmap, mremap or munmap for its arrays: jm_heap_note() counts one,
+ * jm_heap_calls() the count so far (tests: tests/test_realtime.c). */
+void jm_heap_note(void);
+size_t jm_heap_calls(void);
 /* Advises the kernel to back [p, p + bytes) with huge pages where it can
  * (Linux; elsewhere nothing): fewer page faults for large arrays. */
 void jm_huge_advise(void *p, size_t bytes);
@@ -232,6 +251,9 @@ typedef struct jm_grid {
     uint32_t rel_cells;   /* cells released so far (a prefix) */
     size_t rel[5];        /* bytes released of pos, weight, isolated,
                              cell_start, dense (no longer counted) */
+    size_t aligned_min;   /* arrays of pos, weight, isolated, cell_start and
+                             dense this large or larger are page-aligned
+                             (jm_alloc_aligned); 0: none */
 } jm_grid;
 
 

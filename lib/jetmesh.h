@@ -168,7 +168,8 @@
  *
  * Memory (params.max_bytes): every heap byte a context takes is counted
  * (its scratch, the workers' growing buffers, the mesh it returns,
- * meshoptimizer's scratch during simplification), and the limit is checked
+ * meshoptimizer's scratch during simplification; freed blocks it keeps for
+ * its next frames aside, see Real-time use), and the limit is checked
  * where memory is taken: an allocation that would pass it fails and the
  * frame is refused with JM_E_TOO_LARGE (jm_stats.estimated_bytes then
  * holds the total that allocation needed). The frame's estimate (with the
@@ -176,6 +177,18 @@
  * them) is also checked before the large allocations, so most refusals
  * come before the work.
  * Memory not on the heap (the worker threads' stacks) is not counted.
+ *
+ * Real-time use (the paper's jet, meshed inside a running simulator): a
+ * context keeps the working memory its frames free (blocks of up to 4 MiB,
+ * 32 MiB in all, held as malloc holds freed memory: not counted in
+ * peak_bytes or against max_bytes) and hands it out again, and the arrays
+ * it keeps from frame to frame (the mesh, the workers' scratch, grown alike
+ * on every worker) only grow. So once a context has meshed a frame,
+ * meshing a frame that needs no more memory (that frame again, or the
+ * frames of a sequence once their sizes have been met) makes no heap
+ * allocation at all: no malloc, free or mmap, on any number of threads
+ * (tests/test_realtime.c: the jet, both fields; not claimed for
+ * anisotropic kernels or post-processing, which still allocate).
  */
 
 #include <stddef.h>
@@ -432,11 +445,13 @@ typedef struct jm_stats {
                                max_bytes: the total it needed, if more) */
     size_t peak_bytes;    /**< peak of the context's own heap during the call
                                (mesh, scratch and meshoptimizer's scratch
-                               included). Isotropic SPH without
-                               post-processing gives the particles back
-                               behind the sweep of the blocks, which runs
-                               in z: the peak holds the mesh and a band
-                               of the particles, not all of them */
+                               included; the freed blocks kept for the next
+                               frames not: see Real-time use). Isotropic
+                               SPH without post-processing gives the
+                               particles back behind the sweep of the
+                               blocks, which runs in z: the peak holds the
+                               mesh and a band of the particles, not all
+                               of them */
     int threads;          /**< worker threads used */
     size_t cavities_removed; /**< sub-particle cavities removed (see
                                   jm_params.keep_cavities) */

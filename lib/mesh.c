@@ -5,6 +5,8 @@
 #include "metavertex.h"
 #include "units.h"
 #include "grow.h"
+#include "keep.h"
+#include "sort.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -113,6 +115,12 @@ jm_status jm_context_create(const jm_params *params, jm_context **out_ctx)
     if (!params) return JM_E_INVALID_ARGUMENT;
     jm_context *ctx = calloc(1, sizeof *ctx);
     if (!ctx) return JM_E_OUT_OF_MEMORY;
+    /* freed working memory kept for the next frames (keep.h) */
+    ctx->mem.keep = jm_keep_create();
+    if (!ctx->mem.keep) {
+        free(ctx);
+        return JM_E_OUT_OF_MEMORY;
+    }
     jm_status st = jm_context_set_params(ctx, params);
     if (st != JM_OK) {
         jm_context_free(ctx);
@@ -156,6 +164,7 @@ void jm_context_free(jm_context *ctx)
     free_indices(ctx);
     jm_post_scratch_free(&ctx->post, &ctx->mem);
     jm_pool_free(ctx->pool);
+    jm_keep_destroy(ctx->mem.keep);
     free(ctx);
 }
 
@@ -378,11 +387,8 @@ static void template_task(void *arg, size_t k, int worker)
     for (size_t t = 0; t < ctx->t_ni; t++) dst[t] = (uint32_t)(v0 + ctx->t_idx[t]);
 }
 
-static int cmp_u64(const void *a, const void *b)
-{
-    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
-    return x < y ? -1 : x > y;
-}
+static inline int u64_less(const uint64_t *a, const uint64_t *b) { return *a < *b; }
+JM_SORT_DEFINE(sort_u64, uint64_t, u64_less)
 
 /* Working memory estimate for a frame of n particles, links metasphere
  * neck links (24 bytes each: jm_grid's nb, nb_owner, nb_dir) and nblocks
@@ -477,7 +483,7 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
     for (size_t s = 0; s < set.cap; s++)
         if (set.keys[s] != JM_HASH_EMPTY) bs->key[k++] = set.keys[s];
     jm_hashmap_free(&set, mem);
-    if (bs->count > 1) qsort(bs->key, bs->count, sizeof *bs->key, cmp_u64);
+    sort_u64(bs->key, bs->count); /* distinct */
     st = jm_hashmap_init(&bs->map, mem, bs->count + 1);
     if (st != JM_OK) return st;
     for (size_t i = 0; i < bs->count; i++) *jm_hashmap_upsert(&bs->map, bs->key[i]) = (uint32_t)i;
@@ -486,6 +492,10 @@ static jm_status build_blocks(const jm_config *c, const jm_grid *g, jm_mem *mem,
 
 static void free_blocks(jm_block_set *bs, jm_mem *mem)
 {
+    if (bs->cell_start) {
+        jm_free(mem, bs->cells, (bs->ncells ? bs->ncells : 1) * sizeof *bs->cells);
+        jm_free(mem, bs->cell_start, (bs->count + 1) * sizeof *bs->cell_start);
+    }
     jm_free(mem, bs->key, (bs->count ? bs->count : 1) * sizeof *bs->key);
     if (bs->map.keys) jm_hashmap_free(&bs->map, mem);
     memset(bs, 0, sizeof *bs);
@@ -495,8 +505,9 @@ static jm_status ensure_scratch(jm_context *ctx)
 {
     if (ctx->nscratch == ctx->threads && ctx->scratch && ctx->scratch[0].B == ctx->cfg.block) return JM_OK;
     drop_scratch(ctx);
-    ctx->scratch = jm_calloc(&ctx->mem, (size_t)ctx->threads, sizeof *ctx->scratch);
+    ctx->scratch = jm_alloc_lasting(&ctx->mem, (size_t)ctx->threads * sizeof *ctx->scratch);
     if (!ctx->scratch) return JM_E_OUT_OF_MEMORY;
+    memset(ctx->scratch, 0, (size_t)ctx->threads * sizeof *ctx->scratch);
     ctx->scratch_cap = (size_t)ctx->threads;
     for (int i = 0; i < ctx->threads; i++) {
         /* counted against the limit before it is taken */
@@ -513,7 +524,7 @@ static jm_status ensure_scratch(jm_context *ctx)
         }
         /* the buffers that grow with the blocks, counted as they grow */
         jm_scratch *sc = &ctx->scratch[i];
-        sc->hood.mem = sc->soa.mem = sc->an_list.mem = sc->probe.mem = sc->mnorm.mem = &ctx->mem;
+        sc->hood.mem = sc->soa.mem = sc->an_list.mem = sc->probe.mem = sc->mnorm.mem = sc->roots.mem = &ctx->mem;
         sc->an_cand.mem = &ctx->mem;
     }
     ctx->nscratch = ctx->threads;
@@ -549,7 +560,16 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     jm_block_set bs;
     s = build_blocks(c, &g, mem, &bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) { jm_grid_free(&g, mem); return s; }
-    jm_grid_drop_coords(&g, mem); /* read no more */
+    /* the metasphere's blocks list the cells that reach them (their hoods
+     * are filled from the lists, with the cells' coordinates) */
+    if (c->field == JM_FIELD_METASPHERE) {
+        if (!jm_block_cells(c, &g, mem, &bs)) {
+            s = JM_E_OUT_OF_MEMORY;
+            goto out_blocks;
+        }
+    } else {
+        jm_grid_drop_coords(&g, mem); /* read no more */
+    }
     st->particles = in->count;
     st->isolated = g.n_isolated;
     st->blocks = bs.count;
@@ -583,7 +603,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     job.nbmap = jm_calloc(mem, nb, sizeof *job.nbmap);
     size_t slots = (size_t)ctx->threads * 32;
     if (ctx->nbouts < slots) {
-        jm_bout *b = jm_realloc(mem, ctx->bouts, ctx->nbouts * sizeof *b, slots * sizeof *b);
+        jm_bout *b = jm_realloc_lasting(mem, ctx->bouts, ctx->nbouts * sizeof *b, slots * sizeof *b);
         if (b) {
             memset(b + ctx->nbouts, 0, (slots - ctx->nbouts) * sizeof *b);
             ctx->bouts = b;
@@ -665,6 +685,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         }
         t_stitch += jm_now_ms() - ta1;
     }
+    /* (a failure only costs the next frame an allocation) */
+    (void)jm_scratch_even(ctx->scratch, ctx->nscratch);
     double t2 = jm_now_ms();
     /* stitch: pending references to vertices owned by later blocks */
     jm_pool_run(ctx->pool, job.npend, 4096, resolve_task, &job);
@@ -675,8 +697,8 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     }
     jm_pool_run(ctx->pool, (ctx->ni + CHUNK - 1) / CHUNK, 1, patch_task, &job);
     if (c->field == JM_FIELD_METASPHERE && (c->compensate || c->normals) &&
-        !jm_meta_finish(&ctx->mem, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate, c->normals,
-                        0.1f * c->h)) {
+        !jm_meta_finish(&ctx->mem, ctx->pool, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate,
+                        c->normals, 0.1f * c->h)) {
         s = JM_E_OUT_OF_MEMORY;
         goto out_job;
     }
@@ -792,9 +814,9 @@ static jm_status make_template(jm_context *ctx)
     jm_status s = run(ctx, &c, &one, &ignore);
     if (s != JM_OK) return s;
     jm_mem *mem = &ctx->mem;
-    ctx->t_pos = jm_alloc(mem, ctx->nv * 3 * sizeof(float));
-    ctx->t_nrm = jm_alloc(mem, ctx->nv * 3 * sizeof(float));
-    ctx->t_idx = jm_alloc(mem, ctx->ni * sizeof(uint32_t));
+    ctx->t_pos = jm_alloc_lasting(mem, ctx->nv * 3 * sizeof(float));
+    ctx->t_nrm = jm_alloc_lasting(mem, ctx->nv * 3 * sizeof(float));
+    ctx->t_idx = jm_alloc_lasting(mem, ctx->ni * sizeof(uint32_t));
     ctx->t_nv = ctx->nv;
     ctx->t_ni = ctx->ni;
     if (!ctx->t_pos || !ctx->t_nrm || !ctx->t_idx) { drop_template(ctx); return JM_E_OUT_OF_MEMORY; }
@@ -806,6 +828,40 @@ static jm_status make_template(jm_context *ctx)
     ctx->have_tmpl = 1;
     ctx->nv = ctx->ni = 0;
     return JM_OK;
+}
+
+/* The bounds of nv > 0 points: four at a time as three vectors of 4
+ * floats (lanes x y z x, y z x y, z x y z), whose lanes gather each axis's
+ * minimum and maximum (exact: any order gives them) */
+static void bounds(const float *pos, size_t nv, float lo[3], float hi[3])
+{
+    typedef float v4f __attribute__((vector_size(16)));
+    typedef int32_t v4i __attribute__((vector_size(16)));
+    v4f mn[3], mx[3];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 4; l++) mn[k][l] = mx[k][l] = pos[(4 * k + l) % 3];
+    size_t v = 0;
+    for (; v + 4 <= nv; v += 4)
+        for (int k = 0; k < 3; k++) {
+            v4f x;
+            memcpy(&x, pos + 3 * v + 4 * k, sizeof x);
+            const v4i lt = x < mn[k], gt = x > mx[k];
+            mn[k] = (v4f)((lt & (v4i)x) | (~lt & (v4i)mn[k]));
+            mx[k] = (v4f)((gt & (v4i)x) | (~gt & (v4i)mx[k]));
+        }
+    for (int a = 0; a < 3; a++) lo[a] = hi[a] = pos[a];
+    for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 4; l++) {
+            const int a = (4 * k + l) % 3;
+            if (mn[k][l] < lo[a]) lo[a] = mn[k][l];
+            if (mx[k][l] > hi[a]) hi[a] = mx[k][l];
+        }
+    for (; v < nv; v++)
+        for (int a = 0; a < 3; a++) {
+            const float x = pos[3 * v + a];
+            if (x < lo[a]) lo[a] = x;
+            if (x > hi[a]) hi[a] = x;
+        }
 }
 
 jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_mesh *out_mesh, jm_stats *out_stats)
@@ -839,15 +895,7 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
         m->indices = ctx->idx;
         m->vertex_count = ctx->nv;
         m->triangle_count = ctx->ni / 3;
-        if (ctx->nv) {
-            for (int a = 0; a < 3; a++) m->bounds_min[a] = m->bounds_max[a] = ctx->pos[a];
-            for (size_t v = 1; v < ctx->nv; v++)
-                for (int a = 0; a < 3; a++) {
-                    float x = ctx->pos[3 * v + a];
-                    if (x < m->bounds_min[a]) m->bounds_min[a] = x;
-                    if (x > m->bounds_max[a]) m->bounds_max[a] = x;
-                }
-        }
+        if (ctx->nv) bounds(ctx->pos, ctx->nv, m->bounds_min, m->bounds_max);
         if (!m->positions) { m->vertex_count = 0; m->triangle_count = 0; }
         st.vertices = ctx->nv;
         st.triangles = ctx->ni / 3;

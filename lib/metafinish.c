@@ -97,22 +97,21 @@ static inline int stored_away(const float *restrict N, const uint32_t *vi, const
     return facing_away(N, vi, _mm_loadu_ps(cr));
 }
 /* Whether triangle v, its vertices moved by D along their normals N, turns
- * its normal (x2 area) against its own at positions P: that read from c
- * where not NULL (from tri_sag, the same bits as (p1 - p0) x (p2 - p0) but
- * for the sign of a zero, which the test does not see, as p0 - p2 is
- * -(p2 - p0) exactly), then replaced there by the moved one (for the same
- * reason, what corners_away would compute at the moved positions). */
+ * its normal (x2 area) against its own at positions P; the moved one into
+ * moved where not NULL (4 floats: the same bits as corners_away computes
+ * at the moved positions but for the sign of a zero, which the tests do
+ * not see, as p0 - p2 is -(p2 - p0) exactly). */
 static inline int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        float *c)
+                        float *moved)
 {
     __m128 p[3], q[3];
     for (int k = 0; k < 3; k++) {
         p[k] = ld3(P + 3 * (size_t)v[k]);
         q[k] = _mm_add_ps(p[k], _mm_mul_ps(_mm_set1_ps(D[v[k]]), ld3(N + 3 * (size_t)v[k])));
     }
-    const __m128 c0 = c ? _mm_loadu_ps(c) : cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
+    const __m128 c0 = cross3(_mm_sub_ps(p[1], p[0]), _mm_sub_ps(p[2], p[0]));
     const __m128 c1 = cross3(_mm_sub_ps(q[1], q[0]), _mm_sub_ps(q[2], q[0]));
-    if (c) _mm_storeu_ps(c, c1);
+    if (moved) _mm_storeu_ps(moved, c1);
     return dot3(c0, c1) < 0.0f;
 }
 #else
@@ -160,7 +159,7 @@ static inline int corners_away(const float *restrict P, const float *restrict N,
     return stored_away(N, vi, cr);
 }
 static int folds(const float *restrict P, const float *restrict N, const float *restrict D, const uint32_t *v,
-                        float *c)
+                 float *moved)
 {
     float p[3][3], q[3][3];
     for (int k = 0; k < 3; k++)
@@ -173,14 +172,11 @@ static int folds(const float *restrict P, const float *restrict N, const float *
         u[a] = p[1][a] - p[0][a], w[a] = p[2][a] - p[0][a];
         x[a] = q[1][a] - q[0][a], y[a] = q[2][a] - q[0][a];
     }
-    if (c) memcpy(c0, c, sizeof c0);
-    else {
-        c0[0] = u[1] * w[2] - u[2] * w[1];
-        c0[1] = u[2] * w[0] - u[0] * w[2];
-        c0[2] = u[0] * w[1] - u[1] * w[0];
-    }
+    c0[0] = u[1] * w[2] - u[2] * w[1];
+    c0[1] = u[2] * w[0] - u[0] * w[2];
+    c0[2] = u[0] * w[1] - u[1] * w[0];
     const float c1[3] = {x[1] * y[2] - x[2] * y[1], x[2] * y[0] - x[0] * y[2], x[0] * y[1] - x[1] * y[0]};
-    if (c) memcpy(c, c1, sizeof c1);
+    if (moved) memcpy(moved, c1, sizeof c1);
     return c0[0] * c1[0] + c0[1] * c1[1] + c0[2] * c1[2] < 0.0f;
 }
 #endif
@@ -199,17 +195,15 @@ static int folds(const float *restrict P, const float *restrict N, const float *
 /* Which vertices have a corner that does not face its triangle: flag[v]
  * set (flag: nv bytes, zeroed by the caller), their count returned. The
  * triangles listed in tl (nl of them), or every triangle when tl is NULL,
- * are tested at P; C1, where not NULL, holds each triangle's normal (x2
- * area) at P unless changed marks one of its vertices. */
+ * are tested at P. */
 static size_t flag_away(const float *restrict P, const float *restrict N, const uint32_t *idx, const uint32_t *tl,
-                        size_t nl, uint8_t *flag, const float *C1, const uint8_t *changed)
+                        size_t nl, uint8_t *flag)
 {
     size_t bad = 0;
     for (size_t j = 0; j < nl; j++) {
         const size_t t = tl ? tl[j] : j;
         const uint32_t *vi = idx + 3 * t;
-        const int away = C1 && !(changed[vi[0]] | changed[vi[1]] | changed[vi[2]]) ? stored_away(N, vi, C1 + 4 * t)
-                                                                                  : corners_away(P, N, vi);
+        const int away = corners_away(P, N, vi);
         if (!away) continue;
         for (int k = 0; k < 3; k++) {
             if ((away >> k & 1) && !flag[vi[k]]) {
@@ -227,8 +221,9 @@ static size_t flag_away(const float *restrict P, const float *restrict N, const 
  * and its normal is pushed toward those it fails (by their sum,
  * renormalised) until it faces all of them, keeping the best of a few steps
  * (a fan folded over itself may have no normal facing every triangle). */
-static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N, size_t nv, const uint32_t *idx,
-                        size_t nt, const uint8_t *flag, size_t bad)
+static size_t mark_triangles(jm_pool *pool, const uint32_t *idx, size_t nt, const uint8_t *mark, uint64_t *bits);
+static int face_normals(jm_mem *mem, jm_pool *pool, const float *restrict P, float *restrict N, size_t nv,
+                        const uint32_t *idx, size_t nt, const uint8_t *flag, size_t bad, uint64_t *tbits)
 {
     if (!bad) return 1;
     /* the flagged vertices' triangles: (slot, unit normal) for each corner
@@ -245,34 +240,36 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
             slot[i] = flag[i] ? (uint32_t)b : UINT32_MAX;
             if (flag[i]) who[b++] = (uint32_t)i;
         }
-        for (size_t t = 0; t < nt && ok; t++) {
-            const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
-            if (!(flag[vi[0]] | flag[vi[1]] | flag[vi[2]])) continue;
-            const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
-            const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-            const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
-            float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2], e3[0] * e1[1] - e3[1] * e1[0]};
-            float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-            for (int a = 0; a < 3; a++) cr[a] = len > 0.0f ? cr[a] / len : 0.0f;
-            for (int k = 0; k < 3; k++) {
-                if (!flag[vi[k]]) continue;
-                if (np == cap) {
-                    float *q = jm_realloc(mem, pair, 3 * cap * sizeof *pair, 6 * cap * sizeof *pair);
-                    if (q) pair = q;
-                    uint32_t *u = q ? jm_realloc(mem, pslot, cap * sizeof *pslot, 2 * cap * sizeof *pslot) : NULL;
-                    if (!u) {
-                        if (q) pair = jm_realloc(mem, pair, 6 * cap * sizeof *pair, 3 * cap * sizeof *pair);
-                        ok = 0;
-                        break;
+        (void)mark_triangles(pool, idx, nt, flag, tbits);
+        for (size_t w = 0; w < (nt + 63) / 64 && ok; w++)
+            for (uint64_t tb = tbits[w]; tb && ok; tb &= tb - 1) {
+                const size_t t = 64 * w + (size_t)__builtin_ctzll(tb);
+                const uint32_t vi[3] = {idx[3 * t], idx[3 * t + 1], idx[3 * t + 2]};
+                const float *p0 = P + 3 * (size_t)vi[0], *p1 = P + 3 * (size_t)vi[1], *p2 = P + 3 * (size_t)vi[2];
+                const float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+                const float e3[3] = {p0[0] - p2[0], p0[1] - p2[1], p0[2] - p2[2]};
+                float cr[3] = {e3[1] * e1[2] - e3[2] * e1[1], e3[2] * e1[0] - e3[0] * e1[2], e3[0] * e1[1] - e3[1] * e1[0]};
+                float len = sqrtf(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+                for (int a = 0; a < 3; a++) cr[a] = len > 0.0f ? cr[a] / len : 0.0f;
+                for (int k = 0; k < 3; k++) {
+                    if (!flag[vi[k]]) continue;
+                    if (np == cap) {
+                        float *q = jm_realloc(mem, pair, 3 * cap * sizeof *pair, 6 * cap * sizeof *pair);
+                        if (q) pair = q;
+                        uint32_t *u = q ? jm_realloc(mem, pslot, cap * sizeof *pslot, 2 * cap * sizeof *pslot) : NULL;
+                        if (!u) {
+                            if (q) pair = jm_realloc(mem, pair, 6 * cap * sizeof *pair, 3 * cap * sizeof *pair);
+                            ok = 0;
+                            break;
+                        }
+                        pslot = u;
+                        cap *= 2;
                     }
-                    pslot = u;
-                    cap *= 2;
+                    pslot[np] = slot[vi[k]];
+                    memcpy(pair + 3 * np++, cr, sizeof cr);
+                    start[slot[vi[k]] + 1]++;
                 }
-                pslot[np] = slot[vi[k]];
-                memcpy(pair + 3 * np++, cr, sizeof cr);
-                start[slot[vi[k]] + 1]++;
             }
-        }
     }
     if (ok) {
         for (size_t k = 0; k < bad; k++) start[k + 1] += start[k];
@@ -321,166 +318,259 @@ static int face_normals(jm_mem *mem, const float *restrict P, float *restrict N,
     return ok;
 }
 
-int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
-                   int facing, float max_sag)
+/* The passes over every triangle run in chunks on the pool's threads,
+ * each triangle's result kept apart (its sag and area, its fold and facing
+ * bits); the sums over a vertex's triangles and the rounds' bookkeeping
+ * then run in triangle order on one thread, so the result does not depend
+ * on the threads. */
+#define FIN_CHUNK ((size_t)4096) /* triangles a task: a multiple of 16 */
+typedef struct fin {
+    const float *P, *N, *D;
+    const uint32_t *idx;
+    size_t nt;
+    int facing, lanes;  /* lanes: 16 (AVX-512), 8 (AVX2) or 1 a pass */
+    float *as, *area;   /* per triangle of the wave: its sag times its area / 24, its area */
+    size_t wave;        /* the first chunk of the wave (sag_offsets) */
+    uint32_t *bits;     /* round 0, per 16 triangles t0 + l: bit l set where it
+                           folds, bit 16 + l where a corner faces away */
+} fin;
+
+/* The triangles with a marked vertex, as bits (one per triangle, 64 a
+ * word), found in chunks on the pool's threads: the lists are then read
+ * off the bits in triangle order on one thread. */
+typedef struct marked {
+    const uint32_t *idx;
+    size_t nt;
+    const uint8_t *mark;
+    uint64_t *bits;
+} marked;
+
+static void marked_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const marked *M = arg;
+    const size_t t0 = k * FIN_CHUNK, t1 = t0 + FIN_CHUNK < M->nt ? t0 + FIN_CHUNK : M->nt;
+    for (size_t w = t0 / 64; w * 64 < t1; w++) {
+        uint64_t b = 0;
+        const size_t e = (w + 1) * 64 < t1 ? (w + 1) * 64 : t1;
+        for (size_t t = w * 64; t < e; t++) {
+            const uint32_t *v = M->idx + 3 * t;
+            b |= (uint64_t)(M->mark[v[0]] | M->mark[v[1]] | M->mark[v[2]]) << (t - w * 64);
+        }
+        M->bits[w] = b;
+    }
+}
+
+/* bits (nt / 64 + 1 words) set for the triangles with a marked vertex (mark:
+ * 0 or 1); their count */
+static size_t mark_triangles(jm_pool *pool, const uint32_t *idx, size_t nt, const uint8_t *mark, uint64_t *bits)
+{
+    marked M = {idx, nt, mark, bits};
+    jm_pool_run(pool, (nt + FIN_CHUNK - 1) / FIN_CHUNK, 1, marked_task, &M);
+    size_t n = 0;
+    for (size_t w = 0; w < (nt + 63) / 64; w++) n += (size_t)__builtin_popcountll(bits[w]);
+    return n;
+}
+
+static void sag_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const fin *F = arg;
+    k += F->wave;
+    const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt, b = F->wave * FIN_CHUNK;
+    float *as = F->as - b, *area = F->area - b; /* (indexed by triangle) */
+    size_t t = k * FIN_CHUNK;
+    for (; F->lanes == 16 && t + 16 <= t1; t += 16) jm_finish_sag16(F->P, F->N, F->idx, t, as + t, area + t);
+    for (; F->lanes >= 8 && t + 8 <= t1; t += 8) jm_finish_sag8(F->P, F->N, F->idx, t, as + t, area + t);
+    for (; t < t1; t++) {
+        float len, cr[4];
+        const float sag = tri_sag(F->P, F->N, F->idx + 3 * t, &len, cr);
+        area[t] = 0.5f * len;
+        as[t] = area[t] * sag * (1.0f / 24.0f);
+    }
+}
+
+static void fold0_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const fin *F = arg;
+    const size_t t1 = (k + 1) * FIN_CHUNK < F->nt ? (k + 1) * FIN_CHUNK : F->nt;
+    size_t t = k * FIN_CHUNK;
+    for (size_t w = t / 16; w <= (t1 - 1) / 16; w++) F->bits[w] = 0;
+    for (; F->lanes == 16 && t + 16 <= t1; t += 16)
+        F->bits[t / 16] = jm_finish_fold16(F->P, F->N, F->D, F->idx, t, F->facing);
+    for (; F->lanes >= 8 && t + 8 <= t1; t += 8)
+        F->bits[t / 16] |= jm_finish_fold8(F->P, F->N, F->D, F->idx, t, F->facing) << (t % 16);
+    for (; t < t1; t++) {
+        const uint32_t *v = F->idx + 3 * t;
+        float moved[4];
+        const uint32_t f = (uint32_t)folds(F->P, F->N, F->D, v, moved);
+        const uint32_t away = (uint32_t)(F->facing && stored_away(F->N, v, moved));
+        F->bits[t / 16] |= (f | away << 16) << (t % 16);
+    }
+}
+
+/* Each vertex's offset D along its normal: the area-weighted mean sag of
+ * its triangles, at most max_sag either way. */
+static int sag_offsets(jm_mem *mem, jm_pool *pool, fin *F, float *A, float *D, size_t nv, float max_sag)
+{
+    /* in waves of 4 chunks a thread: the triangles' sags on the threads,
+     * then added to their vertices in triangle order */
+    const size_t nt = F->nt, nch = (nt + FIN_CHUNK - 1) / FIN_CHUNK, per = 4 * (size_t)jm_pool_threads(pool);
+    const size_t bytes = 2 * per * FIN_CHUNK * sizeof(float);
+    F->as = jm_alloc(mem, bytes);
+    if (!F->as) return 0;
+    F->area = F->as + per * FIN_CHUNK;
+    memset(A, 0, 2 * nv * sizeof(float));
+    for (F->wave = 0; F->wave < nch; F->wave += per) {
+        const size_t m = nch - F->wave < per ? nch - F->wave : per, b = F->wave * FIN_CHUNK;
+        jm_pool_run(pool, m, 1, sag_task, F);
+        const size_t e = (F->wave + m) * FIN_CHUNK < nt ? (F->wave + m) * FIN_CHUNK : nt;
+        for (size_t t = b; t < e; t++) {
+            const uint32_t *vi = F->idx + 3 * t;
+            for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], F->as[t - b], F->area[t - b]);
+        }
+    }
+    jm_free(mem, F->as, bytes);
+    F->as = F->area = NULL;
+    for (size_t i = 0; i < nv; i++) {
+        float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
+        /* where the normals turn across a triangle more than a curved
+         * surface could (creases and folds finer than the cubes), the
+         * estimate means nothing: at most a tenth of a cube */
+        D[i] = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
+    }
+    return 1;
+}
+
+/* The fold rounds' lists: watch (the triangles of the rounds after the
+ * first), awl (those the first found with a corner away) and hit (the
+ * vertices a round flags) */
+typedef struct rounds {
+    uint32_t *watch, *awl, *hit;
+    size_t capw, nw, na;
+    int listed;
+    uint64_t *tbits; /* nt / 64 + 1: the triangles with a marked vertex */
+} rounds;
+
+/* No triangle folds over: a triangle whose normal, its vertices moved,
+ * would point against its own before has its vertices' offsets halved
+ * (zeroed after FOLD_HALVINGS rounds), until none does. Each zeroing round
+ * zeroes a vertex of every folded triangle and a triangle of unmoved
+ * vertices is not folded, so the rounds end. After the first round (every
+ * triangle), a round looks only at the triangles with a vertex whose
+ * offset has changed: the others keep the offsets with which that round
+ * found them not folded. The first round also finds the triangles with a
+ * corner away from their moved normal (awl), which the facing pass tests
+ * again at the final positions. */
+static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint8_t *flag, size_t nv,
+                       rounds *R)
+{
+    const size_t nt = F->nt;
+    const uint32_t *idx = F->idx;
+    const size_t nw = (nt + 15) / 16;
+    F->bits = jm_alloc(mem, (nw + 1) * sizeof *F->bits);
+    if (!F->bits) return 0;
+    F->D = D;
+    jm_pool_run(pool, (nt + FIN_CHUNK - 1) / FIN_CHUNK, 1, fold0_task, F);
+    memset(changed, 0, nv);
+    memset(flag, 0, nv);
+    for (int round = 0, all = 1;; round++) {
+        size_t folded = 0, fresh = 0, nh = 0;
+        /* round 0: the triangles its bits mark, in order; then the watched
+         * ones (or all) tested */
+        const size_t count = round ? (all ? nt : R->nw) : nw;
+        for (size_t j = 0; j < count; j++) {
+            uint32_t m = 1;
+            size_t t = all ? j : R->watch[j];
+            if (!round) {
+                m = F->bits[j];
+                t = 16 * j;
+            }
+            for (uint32_t any = round ? 1 : (m | m >> 16) & 0xffffu; any; any &= any - 1) {
+                const int l = round ? 0 : __builtin_ctz(any);
+                const uint32_t *v = idx + 3 * (t + (size_t)l);
+                if (!round && (m >> (16 + l) & 1)) {
+                    if (R->na < R->capw) R->awl[R->na++] = (uint32_t)(t + (size_t)l);
+                    else R->listed = 0;
+                }
+                if (round ? !folds(F->P, F->N, D, v, NULL) : !(m >> l & 1)) continue;
+                /* a folded triangle's vertices: changed, and flagged once */
+                for (int k = 0; k < 3; k++) {
+                    fresh += !changed[v[k]];
+                    changed[v[k]] = 1;
+                    if (!flag[v[k]]) {
+                        flag[v[k]] = 1;
+                        R->hit[nh++] = v[k];
+                    }
+                }
+                folded++;
+            }
+        }
+        if (!folded) {
+            /* watch lists every triangle with a changed vertex unless it
+             * overflowed (none changed when the first round ends it) */
+            if (all && round) R->listed = 0;
+            break;
+        }
+        for (size_t h = 0; h < nh; h++) {
+            D[R->hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[R->hit[h]] : 0.0f;
+            flag[R->hit[h]] = 0;
+        }
+        if (!fresh) continue;
+        R->nw = 0, all = 0; /* too many to list: every triangle */
+        if (mark_triangles(pool, idx, nt, changed, R->tbits) > R->capw) all = 1;
+        else
+            for (size_t w = 0; w < (nt + 63) / 64; w++)
+                for (uint64_t b = R->tbits[w]; b; b &= b - 1) R->watch[R->nw++] = (uint32_t)(64 * w + (size_t)__builtin_ctzll(b));
+    }
+    jm_free(mem, F->bits, (nw + 1) * sizeof *F->bits);
+    F->bits = NULL;
+    return 1;
+}
+
+int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt,
+                   int compensate, int facing, float max_sag)
 {
     /* per vertex: sag * area, area; then each vertex's offset D; the
-     * first nv bytes are the flags of the fold rounds and of the facing */
+     * first nv bytes are the flags of the fold rounds and of the facing,
+     * the next nv those of the vertices changed by them */
     float *acc = jm_alloc(mem, (3 * nv + 1) * sizeof(float));
     if (!acc) return 0;
-    float *A = acc, *D = acc + 2 * nv;
-    const float *P = pos, *N = nrm;
-    /* each triangle's normal (x2 area) in 4 floats, replaced by the first
-     * fold round with its moved one: where none of its vertices moves again
-     * (not changed), the facing test's */
-    float *C = NULL;
-    const size_t csz = compensate ? 4 * (nt + 1) * sizeof *C : 0;
-    uint8_t *changed = (uint8_t *)acc + nv;
-    uint32_t *watch = NULL, *awl = NULL;
-    size_t capw = 0, nw = 0, na = 0;
-    int listed = 1;
-    if (compensate) {
-        C = jm_alloc(mem, csz);
-        if (!C) {
-            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-            return 0;
+    float *D = acc + 2 * nv;
+    uint8_t *flag = (uint8_t *)acc, *changed = (uint8_t *)acc + nv;
+    /* 16 triangles a pass where the CPU can (metafinish16.c), else 8
+     * (metafinish8.c): the same bits as one at a time */
+    fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, 0, NULL};
+    rounds R = {NULL, NULL, NULL, FINISH_LIST(nt), 0, 0, 1, NULL};
+    const size_t tbsz = (nt / 64 + 1) * sizeof *R.tbits;
+    R.tbits = jm_alloc(mem, tbsz);
+    int ok = R.tbits != NULL;
+    if (ok && compensate) {
+        R.watch = jm_alloc(mem, (2 * R.capw + nv) * sizeof *R.watch);
+        ok = R.watch != NULL;
+        if (ok) {
+            R.awl = R.watch + R.capw;
+            R.hit = R.awl + R.capw;
+            ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, flag, nv, &R);
         }
-        memset(A, 0, 2 * nv * sizeof(float));
-        /* 16 triangles a pass where the CPU can (metafinish16.c: the same
-         * bits), their sums added in the same order */
-        const int wide = jm_finish16_ok();
-        size_t t0 = 0;
-        for (; wide && t0 + 16 <= nt; t0 += 16) {
-            float as[16], area[16];
-            jm_finish_sag16(P, N, idx, t0, C, as, area);
-            for (int l = 0; l < 16; l++) {
-                const uint32_t *vi = idx + 3 * (t0 + l);
-                for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as[l], area[l]);
-            }
-        }
-        for (size_t t = t0; t < nt; t++) {
-            const uint32_t *vi = idx + 3 * t;
-            float len;
-            const float sag = tri_sag(P, N, vi, &len, C + 4 * t);
-            const float area = 0.5f * len, as = area * sag * (1.0f / 24.0f);
-            for (int k = 0; k < 3; k++) add2(A + 2 * (size_t)vi[k], as, area);
-        }
-        for (size_t i = 0; i < nv; i++) {
-            float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
-            /* where the normals turn across a triangle more than a curved
-             * surface could (creases and folds finer than the cubes), the
-             * estimate means nothing: at most a tenth of a cube */
-            D[i] = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
-        }
-        /* No triangle folds over: a triangle whose normal, its vertices
-         * moved, would point against its own before has its vertices' offsets
-         * halved (zeroed after FOLD_HALVINGS rounds), until none does. Each
-         * zeroing round zeroes a vertex of every folded triangle and a
-         * triangle of unmoved vertices is not folded, so the rounds end.
-         * After the first round (every triangle), a round looks only at the
-         * triangles with a vertex whose offset has changed: the others keep
-         * the offsets with which that round found them not folded. */
-        /* The triangles of the rounds after the first (watch: those with a
-         * changed vertex, in any order: a round's result does not depend on
-         * it) and those the first found with a corner not facing it (awl:
-         * the first round's moved normal is the facing test's where no
-         * vertex changes after it); the vertices a round flags (hit). */
-        uint8_t *flag = (uint8_t *)acc;
-        capw = FINISH_LIST(nt);
-        watch = jm_alloc(mem, (2 * capw + nv) * sizeof *watch);
-        if (!watch) {
-            jm_free(mem, C, csz);
-            jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
-            return 0;
-        }
-        awl = watch + capw;
-        uint32_t *const hit = awl + capw;
-        memset(changed, 0, nv);
-        memset(flag, 0, nv);
-        for (int round = 0, all = 1;; round++) {
-            size_t folded = 0, fresh = 0, nh = 0;
-            const size_t count = all ? nt : nw;
-            /* a folded triangle's vertices: changed, and flagged once */
-#define FOLDED(v)                                  \
-    do {                                           \
-        for (int k = 0; k < 3; k++) {              \
-            fresh += !changed[(v)[k]];             \
-            changed[(v)[k]] = 1;                   \
-            if (!flag[(v)[k]]) {                   \
-                flag[(v)[k]] = 1;                  \
-                hit[nh++] = (v)[k];                \
-            }                                      \
-        }                                          \
-        folded++;                                  \
-    } while (0)
-            size_t j = 0;
-            /* the first round: 16 triangles a pass where the CPU can
-             * (metafinish16.c: the same bits), then each flagged one in
-             * order as below */
-            for (; round == 0 && wide && j + 16 <= count; j += 16) {
-                const uint32_t m = jm_finish_fold16(P, N, D, idx, j, C, facing);
-                for (uint32_t any = (m | m >> 16) & 0xffffu; any; any &= any - 1) {
-                    const int l = __builtin_ctz(any);
-                    const size_t t = j + (size_t)l;
-                    if (m >> (16 + l) & 1) {
-                        if (na < capw) awl[na++] = (uint32_t)t;
-                        else listed = 0;
-                    }
-                    if (m >> l & 1) FOLDED(idx + 3 * t);
-                }
-            }
-            for (; j < count; j++) {
-                const size_t t = all ? j : watch[j];
-                const uint32_t *v = idx + 3 * t;
-                int f;
-                if (round) f = folds(P, N, D, v, NULL);
-                else {
-                    f = folds(P, N, D, v, C + 4 * t);
-                    if (facing && stored_away(N, v, C + 4 * t)) {
-                        if (na < capw) awl[na++] = (uint32_t)t;
-                        else listed = 0;
-                    }
-                }
-                if (f) FOLDED(v);
-            }
-#undef FOLDED
-            if (!folded) {
-                /* watch lists every triangle with a changed vertex unless
-                 * it overflowed (none changed when the first round ends it) */
-                if (all && round) listed = 0;
-                break;
-            }
-            for (size_t h = 0; h < nh; h++) {
-                D[hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[hit[h]] : 0.0f;
-                flag[hit[h]] = 0;
-            }
-            if (!fresh) continue;
-            nw = 0, all = 0; /* too many to list: every triangle */
-            for (size_t t = 0; t < nt && !all; t++)
-                if (changed[idx[3 * t]] | changed[idx[3 * t + 1]] | changed[idx[3 * t + 2]]) {
-                    if (nw == capw) all = 1;
-                    else watch[nw++] = (uint32_t)t;
-                }
-        }
-        for (size_t i = 0; i < nv; i++)
-            for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * N[3 * i + a];
+        if (ok)
+            for (size_t i = 0; i < nv; i++)
+                for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * nrm[3 * i + a];
     }
-    int ok = 1;
-    if (facing) {
+    if (ok && facing) {
         /* every triangle's facing at the moved positions: where the rounds
          * listed them, those the first round found away and are unchanged
          * (the others, unchanged, face) and those with a changed vertex */
-        uint8_t *flag = (uint8_t *)acc;
         size_t bad;
         memset(flag, 0, nv);
-        if (compensate && listed)
-            bad = flag_away(pos, nrm, idx, awl, na, flag, C, changed) +
-                  flag_away(pos, nrm, idx, watch, nw, flag, NULL, changed);
-        else bad = flag_away(pos, nrm, idx, NULL, nt, flag, C, changed);
-        ok = face_normals(mem, pos, nrm, nv, idx, nt, flag, bad);
+        if (compensate && R.listed)
+            bad = flag_away(pos, nrm, idx, R.awl, R.na, flag) + flag_away(pos, nrm, idx, R.watch, R.nw, flag);
+        else bad = flag_away(pos, nrm, idx, NULL, nt, flag);
+        ok = face_normals(mem, pool, pos, nrm, nv, idx, nt, flag, bad, R.tbits);
     }
-    jm_free(mem, watch, (2 * capw + nv) * sizeof *watch);
-    jm_free(mem, C, csz);
+    jm_free(mem, R.tbits, tbsz);
+    jm_free(mem, R.watch, (2 * R.capw + nv) * sizeof *R.watch);
     jm_free(mem, acc, (3 * nv + 1) * sizeof(float));
     return ok;
 }

@@ -3,8 +3,9 @@
 #include "cpu.h"
 #include <stdatomic.h>
 
-static atomic_int enabled = 1;
-void jm_finish16_enable(int on) { atomic_store(&enabled, on != 0); }
+static atomic_int width = 16;
+void jm_finish_set_width(int lanes) { atomic_store(&width, lanes); }
+int jm_finish_width(void) { return atomic_load(&width); }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -13,7 +14,7 @@ int jm_finish16_ok(void)
 {
     /* the 128-bit masked loads are AVX-512VL (every AVX-512 CPU but the
      * Xeon Phi has it) */
-    return atomic_load(&enabled) && jm_cpu_avx512() && __builtin_cpu_supports("avx512vl");
+    return jm_finish_width() >= 16 && jm_cpu_avx512() && __builtin_cpu_supports("avx512vl");
 }
 
 /* Four triangles a register, one a 128-bit lane laid out as metafinish.c's
@@ -64,8 +65,7 @@ AVX512 static inline void firsts(__m512 x, float *out)
     _mm_storeu_ps(out, _mm512_castps512_ps128(_mm512_permutexvar_ps(_mm512_set_epi32(0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 12, 8, 4, 0), x)));
 }
 
-AVX512 void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx, size_t t0, float *C, float *as,
-                            float *area)
+AVX512 void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx, size_t t0, float *as, float *area)
 {
     for (int g = 0; g < 16; g += 4) {
         const uint32_t *v0 = idx + 3 * (t0 + g), *v1 = v0 + 3, *v2 = v0 + 6, *v3 = v0 + 9;
@@ -75,7 +75,6 @@ AVX512 void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx,
                      n2 = ld3x4(N, v0, v1, v2, v3, 2);
         const __m512 e1 = _mm512_sub_ps(p1, p0), e2 = _mm512_sub_ps(p2, p1), e3 = _mm512_sub_ps(p0, p2);
         const __m512 cr = cross4(e3, e1);
-        _mm512_storeu_ps(C + 4 * (t0 + g), cr);
         const __m512 len = _mm512_sqrt_ps(dot4(cr, cr));
         const __m512 m1 = _mm512_mul_ps(_mm512_sub_ps(n1, n0), e1), m2 = _mm512_mul_ps(_mm512_sub_ps(n2, n1), e2),
                      m3 = _mm512_mul_ps(_mm512_sub_ps(n0, n2), e3);
@@ -89,20 +88,19 @@ AVX512 void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx,
 }
 
 AVX512 uint32_t jm_finish_fold16(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0,
-                                 float *C, int facing)
+                                 int facing)
 {
     uint32_t out = 0;
     for (int g = 0; g < 16; g += 4) {
         const uint32_t *v0 = idx + 3 * (t0 + g), *v1 = v0 + 3, *v2 = v0 + 6, *v3 = v0 + 9;
-        __m512 q[3], n[3];
+        __m512 p[3], q[3], n[3];
         for (int k = 0; k < 3; k++) {
             n[k] = ld3x4(N, v0, v1, v2, v3, k);
-            q[k] = _mm512_add_ps(ld3x4(P, v0, v1, v2, v3, k), _mm512_mul_ps(splat4(D, v0, v1, v2, v3, k), n[k]));
+            p[k] = ld3x4(P, v0, v1, v2, v3, k);
+            q[k] = _mm512_add_ps(p[k], _mm512_mul_ps(splat4(D, v0, v1, v2, v3, k), n[k]));
         }
-        float *c = C + 4 * (t0 + g);
-        const __m512 c0 = _mm512_loadu_ps(c);
+        const __m512 c0 = cross4(_mm512_sub_ps(p[1], p[0]), _mm512_sub_ps(p[2], p[0]));
         const __m512 c1 = cross4(_mm512_sub_ps(q[1], q[0]), _mm512_sub_ps(q[2], q[0]));
-        _mm512_storeu_ps(c, c1);
         /* lane j's first float below zero: bit 4 j */
         const __mmask16 f = _mm512_cmp_ps_mask(dot4(c0, c1), _mm512_setzero_ps(), _CMP_LT_OQ);
         uint32_t away = 0;
@@ -130,14 +128,13 @@ AVX512 uint32_t jm_finish_fold16(const float *P, const float *N, const float *D,
 }
 #else
 int jm_finish16_ok(void) { return 0; }
-void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx, size_t t0, float *C, float *as, float *area)
+void jm_finish_sag16(const float *P, const float *N, const uint32_t *idx, size_t t0, float *as, float *area)
 {
-    (void)P, (void)N, (void)idx, (void)t0, (void)C, (void)as, (void)area;
+    (void)P, (void)N, (void)idx, (void)t0, (void)as, (void)area;
 }
-uint32_t jm_finish_fold16(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, float *C,
-                          int facing)
+uint32_t jm_finish_fold16(const float *P, const float *N, const float *D, const uint32_t *idx, size_t t0, int facing)
 {
-    (void)P, (void)N, (void)D, (void)idx, (void)t0, (void)C, (void)facing;
+    (void)P, (void)N, (void)D, (void)idx, (void)t0, (void)facing;
     return 0;
 }
 #endif

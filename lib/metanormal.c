@@ -32,13 +32,25 @@ static int reserve(jm_mnorm *m, size_t n)
     if (n <= m->cap) return 1;
     size_t nc = m->cap ? 2 * m->cap : 1024;
     while (nc < n) nc *= 2;
-    float *a = jm_alloc(m->mem, nc * PER_VERTEX);
+    float *a = jm_alloc_lasting(m->mem, nc * PER_VERTEX);
     if (!a) return 0;
     jm_free(m->mem, m->acc, m->cap * PER_VERTEX);
     m->acc = a;
     m->sub = a + 3 * nc;
     m->moved = (uint32_t *)(a + 9 * nc);
     m->cap = nc;
+    return 1;
+}
+
+int jm_mnorm_match(jm_mnorm *m, const jm_mnorm *o)
+{
+    if (!reserve(m, o->cap)) return 0;
+    if (o->capvisit > m->capvisit) {
+        jm_visit *b = jm_realloc_lasting(m->mem, m->visit, m->capvisit * sizeof *b, o->capvisit * sizeof *b);
+        if (!b) return 0;
+        m->visit = b;
+        m->capvisit = o->capvisit;
+    }
     return 1;
 }
 
@@ -65,7 +77,7 @@ static void record(jm_mnorm *m, const int lo[3], const int hi[3], const float *q
     if (!m || !m->visits) return;
     if (m->nvisit == m->capvisit) {
         size_t nc = m->capvisit ? 2 * m->capvisit : 256;
-        jm_visit *b = jm_realloc(m->mem, m->visit, m->capvisit * sizeof *b, nc * sizeof *b);
+        jm_visit *b = jm_realloc_lasting(m->mem, m->visit, m->capvisit * sizeof *b, nc * sizeof *b);
         if (!b) {
             m->visits = 0;
             return;
@@ -305,14 +317,14 @@ static void few_link(void *ctx, const int lo[3], const int hi[3], const float *q
 
 /* the pass over the sorted points x, y, z (n of them, n >= 8) with part
  * starts ps, sums into acc (3 n floats, zeroed here) */
-static pass make_pass(const jm_config *c, int B, const float *x, const float *y, const float *z, size_t n,
+static pass make_pass(const jm_config *c, int np, const float *x, const float *y, const float *z, size_t n,
                       const uint32_t *ps, float *acc)
 {
     memset(acc, 0, n * 3 * sizeof(float));
     /* a piece comes within tau of the threshold only within rb of its
      * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
     const float rb = band_reach(c);
-    pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, jm_probe_parts(B), c->threshold, 1.0f / c->mv_tau,
+    pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, np, c->threshold, 1.0f / c->mv_tau,
               1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}, NULL};
     return P;
 }
@@ -324,7 +336,7 @@ int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *h
 #endif
     const size_t ns = nv < 8 ? 8 : nv;
     if (!reserve(m, ns)) return 0;
-    pass P = make_pass(c, B, pr->px, pr->py, pr->pz, ns, pr->pstart, m->acc);
+    pass P = make_pass(c, jm_probe_parts(B, pr->pc), pr->px, pr->py, pr->pz, ns, pr->pstart, m->acc);
     P.vm = pr->vmax;
     P.rb_probe = rb_probe;
     P.rn_probe = rn_probe;
@@ -333,7 +345,7 @@ int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *h
     P.rec = m;
     const float reach = band_reach(c);
     const jm_piece_visitor vis = {reach, reach, fused_ball, fused_link, &P};
-    jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+    jm_probe_pieces(g, c, hood, B, pr->pc, x, y, z, &vis);
     return 1;
 }
 
@@ -353,7 +365,7 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
         if (memcmp(&pos[3 * (size_t)v], &pr->pt[3 * (size_t)v], 3 * sizeof(float)) != 0) moved[nm++] = (uint32_t)w;
     }
     if (nm) {
-        const int np = jm_probe_parts(B);
+        const int np = jm_probe_parts(B, pr->pc);
         const size_t parts = (size_t)np * np * np, n2 = nm < 8 ? 8 : nm;
         /* their part starts, where the probe counted (free after its sort) */
         uint32_t *ps = pr->pstart + parts + 1;
@@ -378,7 +390,7 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
             }
         }
         for (size_t q = 0; q < parts; q++) ps[q + 1] += ps[q];
-        pass P = make_pass(c, B, sx, sy, sz, n2, ps, sacc);
+        pass P = make_pass(c, np, sx, sy, sz, n2, ps, sacc);
         memcpy(P.clo, clo, sizeof clo);
         memcpy(P.chi, chi, sizeof chi);
         if (m->visits) {
@@ -391,7 +403,7 @@ int jm_meta_normals_finish(const jm_grid *g, const jm_config *c, const jm_hood *
         } else {
             const float reach = band_reach(c);
             const jm_piece_visitor vis = {reach, reach, few_ball, few_link, &P};
-            jm_probe_pieces(g, c, hood, B, x, y, z, &vis);
+            jm_probe_pieces(g, c, hood, B, pr->pc, x, y, z, &vis);
         }
         for (size_t j = 0; j < nm; j++) {
             ax[moved[j]] = P.ax[j];

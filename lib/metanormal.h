@@ -24,6 +24,8 @@ typedef struct jm_mnorm {
     int visits;    /* 1: visit holds this block's (0: enumerate again) */
 } jm_mnorm;
 void jm_mnorm_free(jm_mnorm *m);
+/* m's capacities grown to at least o's (0 if out of memory). */
+int jm_mnorm_match(jm_mnorm *m, const jm_mnorm *o);
 
 /* The metasphere is the union of its pieces (balls and half-necks), so it
  * has a crease wherever two of them meet at an angle. A vertex's normal is

@@ -20,8 +20,10 @@ float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
 
 /* The stitched mesh's last pass (pos, nrm: nv vertices; idx: nt
  * triangles): compensate moves every vertex outward by the estimated chord
- * sag of its triangles (at most max_sag); facing pulls a normal that points away from one of
- * its triangles toward theirs. 0 if out of memory. */
-int jm_meta_finish(jm_mem *mem, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt, int compensate,
-                   int facing, float max_sag);
+ * sag of its triangles (at most max_sag); facing pulls a normal that points
+ * away from one of its triangles toward theirs. The passes over every
+ * triangle run on the pool's threads (NULL: the caller's), the same bits
+ * for any number. 0 if out of memory. */
+int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt,
+                   int compensate, int facing, float max_sag);
 #endif

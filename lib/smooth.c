@@ -560,7 +560,7 @@ static void *scratch_buf(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes)
     if (s->bytes[k] >= bytes) return s->p[k];
     size_t want = bytes + bytes / 4;
     jm_free(mem, s->p[k], s->bytes[k]);
-    s->p[k] = jm_alloc(mem, want);
+    s->p[k] = jm_alloc_lasting(mem, want);
     s->bytes[k] = s->p[k] ? want : 0;
     return s->p[k];
 }

@@ -36,7 +36,7 @@ void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
                         continue;
                     if (out->n + 8 > out->cap) {
                         size_t nc = out->cap ? out->cap * 2 : 1024;
-                        float *b = jm_realloc(out->mem, out->buf, 4 * out->cap * sizeof *b, 4 * nc * sizeof *b);
+                        float *b = jm_realloc_lasting(out->mem, out->buf, 4 * out->cap * sizeof *b, 4 * nc * sizeof *b);
                         if (!b) { out->n = SIZE_MAX; return; }
                         out->buf = b;
                         out->cap = nc;

@@ -1,6 +1,7 @@
 /* tables.c - generates the marching cubes and marching tetrahedra tables (no copied tables). */
 #include "tables.h"
 #include <pthread.h>
+#include <stdatomic.h>
 #include <string.h>
 
 const int jm_dir[7][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
@@ -219,5 +220,13 @@ static void build(void)
     index_edges(&mc_table);
 }
 
-const jm_case_table *jm_table_mc(void) { pthread_once(&once, build); return &mc_table; }
-const jm_case_table *jm_table_mt(void) { pthread_once(&once, build); return &mt_table; }
+/* built once (the flag spares the blocks pthread_once's call) */
+static atomic_int built;
+static void ensure(void)
+{
+    if (atomic_load_explicit(&built, memory_order_acquire)) return;
+    pthread_once(&once, build);
+    atomic_store_explicit(&built, 1, memory_order_release);
+}
+const jm_case_table *jm_table_mc(void) { ensure(); return &mc_table; }
+const jm_case_table *jm_table_mt(void) { ensure(); return &mt_table; }

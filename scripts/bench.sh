@@ -6,6 +6,9 @@
 #        BENCH_QUICK=1   one timed run per case, no time floor: checks the script
 #                        itself in a minute or two; its numbers are NOT medians
 #        BENCH_MD=FILE   where to write the report (default BENCHMARKS.md)
+#        BENCH_BASELINE=FILE  a build/bench.json of an older commit on the same
+#                        machine: the jet's and the metasphere dam break's
+#                        targets (issue 34) are then ratios against its medians
 # Needs node to turn the JSON into BENCHMARKS.md tables; without it the report
 # holds the bench's own text tables instead.
 # Exit status: 0 every case ran, 1 a case (or the report) failed, 2 usage.
@@ -49,6 +52,8 @@ group() {
 
 # --- the suite ----------------------------------------------------------------
 group jet --scene jet --field metasphere,sph --method mt,mc -j 1,2
+# the paper's case at cube r too (issue 34's targets)
+group jet_r --scene jet --field metasphere --method mt --cube-size 1 -j 1,2
 
 REAL1="$SHARED/data/derived/dam_break_frame_23_24389_particles.xyz"
 REAL2="$SHARED/data/splashsurf/bunny_frame_14_7705_particles.vtk"
@@ -249,9 +254,9 @@ echo "wrote $BUILD/bench.json"
 # --- BENCHMARKS.md -------------------------------------------------------------
 elapsed=$(( $(date +%s) - started ))
 if command -v node >/dev/null 2>&1; then
-  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" "$PEER_DIR" "$peer_build" "$WHOLE_DIR" >"$MD.tmp" <<'EOF' || status=1
+  node - "$BUILD/bench.json" "$OUT/commands.sh" "$elapsed" "$PEER_DIR" "$peer_build" "$WHOLE_DIR" "${BENCH_BASELINE:-}" >"$MD.tmp" <<'EOF' || status=1
 const fs = require("fs");
-const [file, cmdfile, elapsed, peerDir, peerBuild, wholeDir] = process.argv.slice(2);
+const [file, cmdfile, elapsed, peerDir, peerBuild, wholeDir, baseFile] = process.argv.slice(2);
 const B = JSON.parse(fs.readFileSync(file, "utf8"));
 const cmds = fs.readFileSync(cmdfile, "utf8").trim();
 const out = [];
@@ -266,12 +271,17 @@ const mib = (b) => (b / 1048576).toFixed(1);
 const mb = (b) => (b / 1e6).toFixed(1);
 const X = (r) => (r == null ? "" : r.toFixed(2) + "×");
 
-function find(group, name, field, method, threads, templates = true) {
-  const g = B.groups.find((g) => g.name === group);
+function findIn(R, group, name, field, method, threads, templates = true, cube = null) {
+  const g = R.groups.find((g) => g.name === group);
   if (!g || !g.result) return null;
   return g.result.cases.find((c) => c.name === name && c.field === field && c.method === method &&
-    c.threads === threads && c.templates === templates && c.status === "ok") || null;
+    c.threads === threads && c.templates === templates && c.status === "ok" &&
+    (cube == null || c.cube_size === cube)) || null;
 }
+const find = (...a) => findIn(B, ...a);
+// an older run on the same machine (BENCH_BASELINE), for issue 34's ratios
+let BASE = null;
+try { if (baseFile) BASE = JSON.parse(fs.readFileSync(baseFile, "utf8")); } catch (e) { BASE = null; }
 const sec = (c) => (c ? c.ms.total.median / 1e3 : null);
 
 // the side-by-side runs with splashsurf: medians over the rounds
@@ -362,6 +372,30 @@ row("jet (frame 99), metasphere mt, cube r/2, median ≤ 0.1 ms (1 thread)",
     jet1 ? jet1.ms.total.median <= 0.1 : null);
 row("1M block: 2 threads ≥ 1.8× 1 thread", b1m2 && b1m2.speedup_vs_1_thread ? f(b1m2.speedup_vs_1_thread, 2) + "×" : "–",
     b1m2 && b1m2.speedup_vs_1_thread ? b1m2.speedup_vs_1_thread >= 1.8 : null);
+// issue 34: the paper's jet four times faster, the metasphere usable on bulk
+// fluid. With BENCH_BASELINE, ratios against that run's medians; without,
+// against the figures of 2fe17ba on the AMD EPYC Zen 2 (AVX2, no AVX-512)
+// of BENCHMARKS.md then: jet cube r/2 5.652 ms, dam break 2203.5 ms; the
+// jet at cube r was not measured then (BENCH_BASELINE only).
+{
+  const ratio = (now, grp, name, field, cube, ref, lim, what) => {
+    const b = BASE ? findIn(BASE, grp, name, field, "mt", 1, true, cube) : null;
+    const base = b ? b.ms.total.median : ref, src = b ? `baseline ${BASE.commit}` : "2fe17ba on the Zen 2";
+    if (!now || base == null) return row(what, "–", null);
+    const r = now.ms.total.median / base;
+    row(what, `${ms(now.ms.total.median)} ms against ${ms(base)} ms (${src}): ${f(r, 2)}×`, r <= lim);
+  };
+  const j1 = find("jet", "jet", "metasphere", "mt", 1), j2 = find("jet", "jet", "metasphere", "mt", 2);
+  ratio(j1, "jet", "jet", "metasphere", 0.5, 5.652, 0.25, "jet (frame 99), metasphere mt, cube r/2, 1 thread ≤ ¼ of issue 34's start");
+  ratio(find("jet_r", "jet", "metasphere", "mt", 1), "jet_r", "jet", "metasphere", 1, null, 1 / 3,
+        "jet (frame 99), metasphere mt, cube r, 1 thread ≤ ⅓ of issue 34's start");
+  row("jet (frame 99), metasphere mt, cube r/2: 2 threads ≥ 1.6× 1 thread",
+      j2 && j2.speedup_vs_1_thread ? f(j2.speedup_vs_1_thread, 2) + "×" : "–",
+      j2 && j2.speedup_vs_1_thread ? j2.speedup_vs_1_thread >= 1.6 : null);
+  ratio(find("real", "dam_break_frame_23_24389_particles.xyz", "metasphere", "mt", 1), "real",
+        "dam_break_frame_23_24389_particles.xyz", "metasphere", 0.5, 2203.5, 1 / 3,
+        "dam break frame 23 (24,389 particles), metasphere mt, 1 thread ≤ ⅓ of issue 34's start");
+}
 const sp1 = find("spray", "spray:10000", "metasphere", "mt", 1), sps = find("spray", "spray:10000", "sph", "mt", 1);
 row("spray 10k: template path ≥ 3× general path (metasphere mt, 1 thread)",
     sp1 && sp1.template_speedup ? `${f(sp1.template_speedup, 1)}× (sph: ${sps && sps.template_speedup ? f(sps.template_speedup, 1) + "×" : "–"})` : "–",
@@ -465,6 +499,7 @@ p();
 // ---- the groups
 const titles = {
   jet: "Jet (125 particles, frame 99), both fields and methods",
+  jet_r: "Jet (frame 99), metasphere mt at cube r",
   real: "Real frames (radius 0.025; 3 runs each)",
   block_sph: "Blocks 10k and 100k, sph (the reference case: mc)",
   block_meta: "Block 10k, metasphere",

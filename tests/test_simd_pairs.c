@@ -144,12 +144,12 @@ static void test_normals_pair_bits(void **state)
 }
 
 /* The metasphere finish (jm_meta_finish: chord-sag offsets, fold rounds,
- * normals turned to face their triangles) with its 16-triangle kernels and
- * without: a wavy sheet whose normals are tilted at random, some far enough
+ * normals turned to face their triangles) with its 16-triangle (AVX-512)
+ * and 8-triangle (AVX2) kernels and without: a wavy sheet whose normals are tilted at random, some far enough
  * to fold triangles and to face away from them, in triangle counts that
  * leave tails of every length; its last vertex in the last triangle (the
  * masked loads' edge). */
-static void test_finish_sixteen_bits(void **state)
+static void test_finish_kernel_bits(void **state)
 {
     (void)state;
     enum { SIDE = 24, NV = SIDE * SIDE, NT = 2 * (SIDE - 1) * (SIDE - 1) };
@@ -184,15 +184,19 @@ static void test_finish_sixteen_bits(void **state)
         const size_t drop = (size_t)round % 16, n = nt - drop;
         const uint32_t *tri = idx + 3 * drop;
         memcpy(p1, pos, sizeof pos), memcpy(n1, nrm, sizeof nrm);
-        memcpy(p2, pos, sizeof pos), memcpy(n2, nrm, sizeof nrm);
         const int compensate = round % 4 != 3, facing = round % 4 != 2;
-        jm_finish16_enable(0);
-        assert_int_equal(jm_meta_finish(NULL, p1, n1, NV, tri, n, compensate, facing, 0.03f), 1);
-        jm_finish16_enable(1);
-        assert_int_equal(jm_meta_finish(NULL, p2, n2, NV, tri, n, compensate, facing, 0.03f), 1);
-        if (memcmp(p1, p2, sizeof p1) || memcmp(n1, n2, sizeof n1))
-            fail_msg("round %d (%zu triangles, compensate %d, facing %d): the 16-triangle kernels differ", round, n,
-                     compensate, facing);
+        jm_finish_set_width(1);
+        assert_int_equal(jm_meta_finish(NULL, NULL, p1, n1, NV, tri, n, compensate, facing, 0.03f), 1);
+        /* the AVX2 kernels, then the AVX-512 ones (each where the CPU has
+         * them; else the one-at-a-time code again) */
+        for (int lanes = 8; lanes <= 16; lanes *= 2) {
+            jm_finish_set_width(lanes);
+            memcpy(p2, pos, sizeof pos), memcpy(n2, nrm, sizeof nrm);
+            assert_int_equal(jm_meta_finish(NULL, NULL, p2, n2, NV, tri, n, compensate, facing, 0.03f), 1);
+            if (memcmp(p1, p2, sizeof p1) || memcmp(n1, n2, sizeof n1))
+                fail_msg("round %d (%zu triangles, compensate %d, facing %d): the %d-triangle kernels differ", round,
+                         n, compensate, facing, lanes);
+        }
         /* the finish did something: positions moved and normals turned */
         size_t moved = 0;
         for (size_t k = 0; k < 3 * NV; k++) moved += p1[k] != pos[k] || n1[k] != nrm[k];
@@ -207,7 +211,7 @@ int main(void)
         cmocka_unit_test(test_eigen_batch_bits),
         cmocka_unit_test(test_moments_pair_bits),
         cmocka_unit_test(test_normals_pair_bits),
-        cmocka_unit_test(test_finish_sixteen_bits),
+        cmocka_unit_test(test_finish_kernel_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
