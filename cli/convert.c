@@ -610,8 +610,7 @@ static void convert_frame(const convert_options *o, jm_context *ctx, const jmf_r
     jmf_attribute *va = NULL;
     size_t nva = 0;
     if (fr.attribute_count) {
-        jm_params p = o->params;
-        jm_status as = vattrs_make(&p, &fr, &mesh, &va, &nva);
+        jm_status as = vattrs_make(ctx, &fr, &mesh, &va, &nva);
         if (as != JM_OK) {
             snprintf(msg, sizeof msg, "%s: interpolating its attributes: %s", f->path, jm_status_message(as));
             jmf_frame_free(&fr);

@@ -563,10 +563,38 @@ typedef struct jm_attribute {
  * (the sums run in a fixed order, in double precision, on the calling
  * thread); memory about 12 bytes per particle plus a hash of cells, freed
  * before it returns. Non-finite coordinates give JM_E_INVALID_PARTICLE.
+ * Needs no context; jm_context_interpolate below does the same on a
+ * context's threads several times faster.
  */
 jm_status jm_interpolate_attributes(const jm_params *params, const jm_particles *particles,
                                     const float *positions, size_t vertex_count,
                                     jm_attribute *attributes, size_t attribute_count);
+
+/**
+ * jm_interpolate_attributes on a context: the same weights, support and
+ * nearest-particle fallback, with the context's parameters (radius and
+ * smoothing_length) on its threads, for a fraction of the cost (about an
+ * eighth of the meshing's time on a 6,859-particle frame, where
+ * jm_interpolate_attributes takes three quarters of it). Call it after
+ * jm_mesh_particles with the same particles and that mesh's positions:
+ *     jm_attribute vel = {3, velocities, vertex_velocities};
+ *     jm_context_interpolate(ctx, &in, mesh.positions, mesh.vertex_count, &vel, 1);
+ * (any positions are accepted). Particles the context's selection leaves
+ * out of the mesh (particle_aabb_min/max, min_piece_particles) are left out
+ * of the sums too. The vertices are bucketed by cells of edge 2h and each
+ * bucket gathers its particles once; sums in float, in 8 lanes in a fixed
+ * order: deterministic, the same bits for any thread count, and within a
+ * few float roundings of jm_interpolate_attributes (relative 1e-6 of the
+ * largest value on real frames). Memory, counted against max_bytes and
+ * freed before it returns: at most (32 + 4 T) bytes per particle (T: the
+ * attributes' components), 8 per vertex, a hash of the vertices' cells
+ * and each thread's gathered particles. The mesh is left untouched.
+ * JM_E_INVALID_PARTICLE for a non-finite particle coordinate,
+ * JM_E_INVALID_ARGUMENT for a non-finite vertex coordinate or the
+ * arguments jm_interpolate_attributes refuses.
+ */
+jm_status jm_context_interpolate(jm_context *ctx, const jm_particles *particles, const float *positions,
+                                 size_t vertex_count, jm_attribute *attributes, size_t attribute_count);
 
 #ifdef __cplusplus
 }

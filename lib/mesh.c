@@ -5,6 +5,7 @@
 #include "metavertex.h"
 #include "units.h"
 #include "grow.h"
+#include "interpolate.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -917,4 +918,20 @@ jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size
     size_t nb = blocks > 1e15 ? (size_t)1e15 : (size_t)blocks;
     *out_bytes = estimate(c, n, links, nb, ctx->threads);
     return JM_OK;
+}
+
+jm_status jm_context_interpolate(jm_context *ctx, const jm_particles *particles, const float *positions,
+                                 size_t vertex_count, jm_attribute *attributes, size_t attribute_count)
+{
+    size_t total;
+    if (!ctx) return JM_E_INVALID_ARGUMENT;
+    jm_status s = jm_interp_check(particles, positions, vertex_count, attributes, attribute_count, &total);
+    if (s != JM_OK) return s;
+    ctx->mem.limit = ctx->cfg.max_bytes;
+    ctx->mem.over = 0;
+    s = jm_interp_run(&ctx->mem, ctx->pool, &ctx->cfg, NULL, particles, positions, vertex_count, attributes,
+                      attribute_count);
+    if (s == JM_E_OUT_OF_MEMORY && atomic_load(&ctx->mem.over)) s = JM_E_TOO_LARGE;
+    ctx->mem.limit = 0;
+    return s;
 }
