@@ -16,6 +16,7 @@
 #include "farm.h"
 #include "options.h"
 #include "param_errors.h"
+#include "select_options.h"
 #include "platform.h"
 #include "progress.h"
 #include "pvd.h"
@@ -730,7 +731,7 @@ static int report(run *r, const job *jb, outcome *oc)
             r->worst = oc->status;
         return -1;
     }
-    if (rec->particles > 0 && rec->triangles == 0 && r->empty++ == 0)
+    if (rec->particles > 0 && rec->triangles == 0 && !select_any(&o->params) && r->empty++ == 0)
         param_errors_warn_empty(rec->index, rec->input, rec->particles, &o->params);
     if (!o->quiet) {
         const jm_stats *st = &oc->st;
@@ -740,6 +741,8 @@ static int report(run *r, const job *jb, outcome *oc)
         printf(": %zu particles", rec->particles);
         if (rec->dropped)
             printf(" (%zu dropped)", rec->dropped);
+        if (st->particles != rec->particles) /* the selection's (select_options.h) */
+            printf(" (%zu meshed)", st->particles);
         printf(", %zu vertices, %zu triangles, %.2f ms -> ", rec->vertices, rec->triangles, rec->ms_total);
         print_path(stdout, rec->output);
         putchar('\n');

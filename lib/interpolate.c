@@ -2,6 +2,7 @@
 #include "interpolate.h"
 #include "cpu.h"
 #include "cubic8.h"
+#include "cellbins.h"
 #include <string.h>
 
 /*
@@ -44,12 +45,9 @@ typedef struct {
     int T;
     float unit_in, inv_h, R2, invC, margin;
     /* the particles by cell */
-    jm_hashmap map;     /* relative cell key -> cell (when dense is NULL) */
-    uint32_t *dense;    /* cell of each relative coordinate, x fastest (UINT32_MAX: empty) */
-    uint32_t *start;    /* ncells + 1 */
-    float *bpos, *bval; /* 3 and T floats per binned particle */
-    size_t nb, ncells, ndense;
-    int64_t lo[3], span[3];
+    jm_cellbins bins;
+    float *bpos, *bval; /* 3 and T floats per binned particle, in bins order */
+    size_t nb;
     /* the vertices by bucket (cells of edge 2h) */
     uint32_t *order;    /* the vertices by bucket */
     uint32_t *bstart;   /* nbuckets + 1 starts in order */
@@ -90,90 +88,49 @@ static int64_t cell_of(float x, float inv)
     return (int64_t)floorf(x * inv);
 }
 
-/* The cell index of relative coordinates (in range), or UINT32_MAX. */
-static uint32_t cell_at(const ip_job *j, int64_t x, int64_t y, int64_t z)
-{
-    if (j->dense) return j->dense[((size_t)z * (size_t)(j->span[1] + 1) + (size_t)y) * (size_t)(j->span[0] + 1) + (size_t)x];
-    return jm_hashmap_get(&j->map, jm_key3(x, y, z));
-}
-
-/* The particles not skipped, binned by cell (input order within a cell),
- * positions in units and values copied in that order. */
+/* The particles not skipped, binned by cell (cellbins.h: input order
+ * within a cell), their positions in units and values copied in that order. */
 static jm_status bins_build(ip_job *j)
 {
     const jm_particles *in = j->in;
     const size_t n = in->count;
-    int64_t hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
-    for (int k = 0; k < 3; k++) j->lo[k] = INT64_MAX;
     size_t kept = 0;
     for (size_t i = 0; i < n; i++) {
         const float *x = pos_of(in, i);
         for (int k = 0; k < 3; k++)
             if (!isfinite(x[k])) return JM_E_INVALID_PARTICLE;
-        if (j->skip && j->skip[i]) continue;
-        kept++;
-        for (int k = 0; k < 3; k++) {
-            const int64_t c = cell_of(x[k] * j->unit_in, j->invC);
-            if (c < j->lo[k]) j->lo[k] = c;
-            if (c > hi[k]) hi[k] = c;
-        }
+        kept += !(j->skip && j->skip[i]);
     }
     j->nb = kept;
     if (!kept) return JM_OK;
-    double box = 1.0;
-    for (int k = 0; k < 3; k++) {
-        j->span[k] = hi[k] - j->lo[k];
-        if (j->span[k] >= JM_KEY_MAX - 1) return JM_E_TOO_LARGE;
-        box *= (double)(j->span[k] + 1);
-    }
-    uint32_t *cellof = jm_alloc(j->mem, kept * sizeof *cellof);
-    if (!cellof) return JM_E_OUT_OF_MEMORY;
-    jm_status s = JM_OK;
-    if (box <= 4.0 * (double)kept + 4096.0) {
-        j->ndense = (size_t)box;
-        j->dense = jm_alloc(j->mem, j->ndense * sizeof *j->dense);
-        if (!j->dense) s = JM_E_OUT_OF_MEMORY;
-        else memset(j->dense, 0xff, j->ndense * sizeof *j->dense);
-    } else {
-        s = jm_hashmap_init(&j->map, j->mem, kept < 64 ? 64 : kept);
-    }
-    for (size_t i = 0, b = 0; s == JM_OK && i < n; i++) {
+    float *upos = jm_alloc(j->mem, 3 * kept * sizeof *upos);
+    uint32_t *from = jm_alloc(j->mem, kept * sizeof *from); /* the input index of each */
+    jm_status s = upos && from ? JM_OK : JM_E_OUT_OF_MEMORY;
+    for (size_t i = 0, k = 0; s == JM_OK && i < n; i++) {
         if (j->skip && j->skip[i]) continue;
         const float *x = pos_of(in, i);
-        int64_t q[3];
-        for (int k = 0; k < 3; k++) q[k] = cell_of(x[k] * j->unit_in, j->invC) - j->lo[k];
-        uint32_t *v = j->dense ? &j->dense[((size_t)q[2] * (size_t)(j->span[1] + 1) + (size_t)q[1]) *
-                                               (size_t)(j->span[0] + 1) + (size_t)q[0]]
-                               : jm_hashmap_upsert(&j->map, jm_key3(q[0], q[1], q[2]));
-        if (*v == UINT32_MAX) *v = (uint32_t)j->ncells++;
-        cellof[b++] = *v;
+        for (int a = 0; a < 3; a++) upos[3 * k + a] = x[a] * j->unit_in;
+        from[k++] = (uint32_t)i;
     }
+    if (s == JM_OK) s = jm_cellbins_build(&j->bins, j->mem, upos, kept, j->c->support);
     if (s == JM_OK) {
-        j->start = jm_calloc(j->mem, j->ncells + 1, sizeof *j->start);
         j->bpos = jm_alloc(j->mem, 3 * kept * sizeof *j->bpos);
         j->bval = jm_alloc(j->mem, (size_t)j->T * kept * sizeof *j->bval);
-        if (!j->start || !j->bpos || !j->bval) s = JM_E_OUT_OF_MEMORY;
+        if (!j->bpos || !j->bval) s = JM_E_OUT_OF_MEMORY;
     }
-    if (s == JM_OK) {
-        for (size_t b = 0; b < kept; b++) j->start[cellof[b] + 1]++;
-        for (size_t c = 0; c < j->ncells; c++) j->start[c + 1] += j->start[c];
-        /* a counting sort: stable, so input order within a cell */
-        for (size_t i = 0, b = 0; i < n; i++) {
-            if (j->skip && j->skip[i]) continue;
-            const uint32_t to = j->start[cellof[b++]]++;
-            const float *x = pos_of(in, i);
-            for (int k = 0; k < 3; k++) j->bpos[3 * (size_t)to + k] = x[k] * j->unit_in;
-            float *o = j->bval + (size_t)j->T * to;
-            for (size_t a = 0; a < j->na; a++) {
-                const size_t nc = (size_t)j->attr[a].components;
-                memcpy(o, j->attr[a].particle_values + i * nc, nc * sizeof *o);
-                o += nc;
-            }
+    for (size_t q = 0; s == JM_OK && q < kept; q++) {
+        const uint32_t k = j->bins.items[q];
+        const size_t i = from[k];
+        memcpy(j->bpos + 3 * q, upos + 3 * (size_t)k, 3 * sizeof *j->bpos);
+        float *o = j->bval + (size_t)j->T * q;
+        for (size_t a = 0; a < j->na; a++) {
+            const size_t nc = (size_t)j->attr[a].components;
+            memcpy(o, j->attr[a].particle_values + i * nc, nc * sizeof *o);
+            o += nc;
         }
-        for (size_t c = j->ncells; c > 0; c--) j->start[c] = j->start[c - 1];
-        j->start[0] = 0;
     }
-    jm_free(j->mem, cellof, kept * sizeof *cellof);
+    jm_free(j->mem, upos, 3 * kept * sizeof *upos);
+    jm_free(j->mem, from, kept * sizeof *from);
     return s;
 }
 
@@ -241,10 +198,10 @@ static size_t gather(const ip_job *j, ip_worker *w, const float lo[3], const flo
     const size_t stride = (size_t)(3 + j->T) * 8;
     int64_t c0[3], c1[3];
     for (int k = 0; k < 3; k++) {
-        c0[k] = cell_of(lo[k] - j->margin, j->invC) - j->lo[k];
-        c1[k] = cell_of(hi[k] + j->margin, j->invC) - j->lo[k];
+        c0[k] = jm_cellbins_coord(&j->bins, lo[k] - j->margin) - j->bins.lo[k];
+        c1[k] = jm_cellbins_coord(&j->bins, hi[k] + j->margin) - j->bins.lo[k];
         if (c0[k] < 0) c0[k] = 0;
-        if (c1[k] > j->span[k]) c1[k] = j->span[k];
+        if (c1[k] > j->bins.span[k]) c1[k] = j->bins.span[k];
         if (c0[k] > c1[k]) return 0;
     }
     float blo[3], bhi[3];
@@ -256,9 +213,9 @@ static size_t gather(const ip_job *j, ip_worker *w, const float lo[3], const flo
     for (int64_t z = c0[2]; z <= c1[2]; z++)
         for (int64_t y = c0[1]; y <= c1[1]; y++)
             for (int64_t x = c0[0]; x <= c1[0]; x++) {
-                const uint32_t cell = cell_at(j, x, y, z);
+                const uint32_t cell = jm_cellbins_find(&j->bins, x, y, z);
                 if (cell == UINT32_MAX) continue;
-                const uint32_t p0 = j->start[cell], p1 = j->start[cell + 1];
+                const uint32_t p0 = j->bins.start[cell], p1 = j->bins.start[cell + 1];
                 if ((n + (p1 - p0)) / 8 >= w->cap) {
                     size_t nc = w->cap ? 2 * w->cap : 64;
                     while ((n + (p1 - p0)) / 8 >= nc) nc *= 2;
@@ -447,9 +404,7 @@ static void job_free(ip_job *j)
     jm_free(j->mem, j->w, (size_t)j->nw * sizeof *j->w);
     jm_free(j->mem, j->bstart, (j->nbuckets + 1) * sizeof *j->bstart);
     jm_free(j->mem, j->order, j->nv * sizeof *j->order);
-    if (j->map.keys) jm_hashmap_free(&j->map, j->mem);
-    jm_free(j->mem, j->dense, j->ndense * sizeof *j->dense);
-    jm_free(j->mem, j->start, (j->ncells + 1) * sizeof *j->start);
+    jm_cellbins_free(&j->bins, j->mem);
     jm_free(j->mem, j->bpos, 3 * j->nb * sizeof *j->bpos);
     jm_free(j->mem, j->bval, (size_t)j->T * j->nb * sizeof *j->bval);
 }

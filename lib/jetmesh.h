@@ -176,6 +176,40 @@
  * them) is also checked before the large allocations, so most refusals
  * come before the work.
  * Memory not on the heap (the worker threads' stacks) is not counted.
+ *
+ * ----------------------------------------------------------------------
+ * Selection and clipping (jm_params.particle_aabb_min/max,
+ * min_piece_particles, min_piece_volume, mesh_aabb_min/max/clamp; all off
+ * by default, and a mesh made without them is the same bytes as before
+ * they existed). In pipeline order:
+ *   1. particle box: particles outside it are left out before anything
+ *      else (a non-finite coordinate is still JM_E_INVALID_PARTICLE);
+ *   2. small groups: the particles left are grouped by connectivity (two
+ *      closer than L are of one group: union-find over cells of edge L) and
+ *      the groups of fewer than min_piece_particles are left out. L is the
+ *      metasphere's link distance (or its balls' contact distance
+ *      2 r (1 - threshold) where larger): its pieces are then exactly these
+ *      groups (though a neck can pinch at a positive threshold); for sph the
+ *      kernel support 2h: a group may mesh as a few blobs, and at a low
+ *      threshold two groups under 2h apart may join. jm_stats.particles
+ *      counts the particles meshed;
+ *   3. the mesh as usual (cavities, post-processing), then small pieces:
+ *      every connected piece facing outward whose enclosed volume is below
+ *      min_piece_volume r^3 goes, and every cavity inside such a piece
+ *      (its winding number about the piece) with it;
+ *   4. the clip box, last. Without mesh_aabb_clamp every triangle with a
+ *      corner outside the box goes, and every vertex no triangle keeps: the
+ *      mesh lies in the box and is open where the box cut it (a tank's
+ *      walls removed, the free surface kept). With it no triangle goes:
+ *      each vertex outside the box moves to the nearest point of the box
+ *      (its coordinates clamped), its normal to the box's outward face
+ *      normal (the sum of the faces' on an edge or a corner, normalised)
+ *      and its texture coordinates follow; a piece with no vertex inside
+ *      the box goes whole. The mesh stays closed, manifold and oriented,
+ *      the cut closed by flat faces on the box, though a part folded
+ *      beyond the box can flatten onto it as overlapping faces.
+ * Steps 3 and 4 count in jm_stats.ms_post. Deterministic and the same for
+ * any thread count, like the rest.
  */
 
 #include <stddef.h>
@@ -378,6 +412,36 @@ typedef struct jm_params {
                                  rounding slack, are not sampled unless next
                                  to a node that may be outside: no cube
                                  holding a crossing loses a sample */
+    /* ---- what is meshed and kept (all off by default; see "Selection and
+     * clipping" below). Boxes in world units, bounds included; a box is
+     * off while all six of its numbers are 0, else each must be finite and
+     * its min below its max on every axis. */
+    float particle_aabb_min[3]; /**< with particle_aabb_max: only the
+                                 particles inside this box are meshed (as
+                                 splashsurf's --particle-aabb-min/max) */
+    float particle_aabb_max[3];
+    int min_piece_particles;    /**< particles not meshed in groups of fewer
+                                 than this (stray droplets), two particles
+                                 being of one group when closer than the
+                                 link distance (metasphere: their neck
+                                 joins them; or than their balls' contact
+                                 distance, when larger) or the kernel
+                                 support 2h (sph); 0 or 1 = off */
+    float min_piece_volume;     /**< connected pieces of the mesh enclosing
+                                 less than this volume, in units of r^3
+                                 (one particle's ball: 4.19), removed
+                                 after the post-processing, with the
+                                 cavities inside them; 0 = off */
+    float mesh_aabb_min[3];     /**< with mesh_aabb_max: the clip box, last
+                                 of all (as splashsurf's --mesh-aabb-min/max) */
+    float mesh_aabb_max[3];
+    int mesh_aabb_clamp;        /**< with the clip box: 0 removes every
+                                 triangle with a corner outside it (the mesh
+                                 is then open along the cut); 1 moves every
+                                 vertex outside onto the box instead, which
+                                 closes the cut with flat faces on the box
+                                 and keeps the mesh closed (pieces with no
+                                 vertex inside removed whole) */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
@@ -513,7 +577,9 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *particles,
  */
 typedef struct jm_param_problem {
     const char *field;    /**< the member's name as in jm_params ("cube_size",
-                               "threshold", ...); NULL for a NULL params */
+                               "threshold", ...; an array's element with its
+                               index: "mesh_aabb_max[1]"); NULL for a NULL
+                               params */
     double value;         /**< the value given (enums and ints as numbers) */
     double min, max;      /**< the accepted range of the value given (0, the
                                default, is also accepted where the member

@@ -185,6 +185,33 @@ static void test_errors(void **state)
     jm_context_free(ctx);
 }
 
+/* the particles the context's selection leaves out of the mesh are left
+ * out of the sums: between a particle inside the particle box (1) and one
+ * outside (3), 1 rather than the mean */
+static void test_selection(void **state)
+{
+    (void)state;
+    float xyz[6] = {0, 0, 0, R, 0, 0}, val[2] = {1, 3}, pos[3] = {0.5f * R, 0, 0}, out = -1;
+    jm_params p = {0};
+    p.radius = R;
+    p.particle_aabb_min[0] = p.particle_aabb_min[1] = p.particle_aabb_min[2] = -R;
+    p.particle_aabb_max[0] = 0.5f * R;
+    p.particle_aabb_max[1] = p.particle_aabb_max[2] = R;
+    jm_context *ctx = NULL;
+    assert_int_equal(jm_context_create(&p, &ctx), JM_OK);
+    jm_particles in = {xyz, 2, 0, NULL};
+    jm_attribute a = {1, val, &out};
+    assert_int_equal(jm_context_interpolate(ctx, &in, pos, 1, &a, 1), JM_OK);
+    assert_true(out == 1.0f);
+    /* every particle outside: zeros, as with none */
+    p.particle_aabb_min[0] = 2 * R;
+    p.particle_aabb_max[0] = 3 * R;
+    assert_int_equal(jm_context_set_params(ctx, &p), JM_OK);
+    assert_int_equal(jm_context_interpolate(ctx, &in, pos, 1, &a, 1), JM_OK);
+    assert_true(out == 0.0f);
+    jm_context_free(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -192,6 +219,7 @@ int main(void)
         cmocka_unit_test(test_real_sph),
         cmocka_unit_test(test_real_metasphere),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_selection),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
