@@ -479,7 +479,8 @@ typedef struct jm_stats {
     double ms_extract;    /**< marching, welding, stitching blocks */
     double ms_attributes; /**< normals and texture coordinates */
     double ms_total;
-    size_t particles;     /**< particles meshed */
+    size_t particles;     /**< particles meshed (after particle_aabb and
+                               min_piece_particles) */
     size_t isolated;      /**< of which emitted from the sphere template */
     size_t blocks;        /**< lattice blocks sampled */
     size_t cells;         /**< cubes visited */
@@ -498,8 +499,9 @@ typedef struct jm_stats {
     int threads;          /**< worker threads used */
     size_t cavities_removed; /**< sub-particle cavities removed (see
                                   jm_params.keep_cavities) */
-    double ms_post;       /**< smoothing, normal smoothing, simplification
-                               (not part of the other stages; in ms_total) */
+    double ms_post;       /**< smoothing, normal smoothing, simplification,
+                               small pieces and the clip box (not part of
+                               the other stages; in ms_total) */
 } jm_stats;
 
 typedef struct jm_context jm_context;
