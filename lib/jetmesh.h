@@ -657,9 +657,12 @@ jm_status jm_interpolate_attributes(const jm_params *params, const jm_particles 
  * freed before it returns: at most (32 + 4 T) bytes per particle (T: the
  * attributes' components), 8 per vertex, a hash of the vertices' cells
  * and each thread's gathered particles. The mesh is left untouched.
+ * A vertex out of reach finds its nearest particle over the cells around
+ * it (jm_interpolate_attributes scans every particle for it).
  * JM_E_INVALID_PARTICLE for a non-finite particle coordinate,
  * JM_E_INVALID_ARGUMENT for a non-finite vertex coordinate or the
- * arguments jm_interpolate_attributes refuses.
+ * arguments jm_interpolate_attributes refuses, JM_E_TOO_LARGE for
+ * particles or vertices spread over more than 2^21 cells of edge 2h.
  */
 jm_status jm_context_interpolate(jm_context *ctx, const jm_particles *particles, const float *positions,
                                  size_t vertex_count, jm_attribute *attributes, size_t attribute_count);

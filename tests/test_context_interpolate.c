@@ -185,6 +185,38 @@ static void test_errors(void **state)
     jm_context_free(ctx);
 }
 
+/* a support far under the surface's distance (smoothing length 0.05 r):
+ * every vertex takes its nearest particle's values, the same as
+ * jm_interpolate_attributes finds them (ties: the first in input order) */
+static void test_nearest_everywhere(void **state)
+{
+    (void)state;
+    enum { N = 400 };
+    unsigned s = 3;
+    float *xyz = malloc(N * 12), *val = malloc(N * 4);
+    for (size_t i = 0; i < N; i++) {
+        for (int k = 0; k < 3; k++) xyz[3 * i + k] = 0.025f * (float)(int)(16 * frand(&s)); /* ties on a lattice */
+        val[i] = (float)i;
+    }
+    jm_params p = {0};
+    p.radius = R;
+    p.smoothing_length = 0.05f;
+    p.threads = 2;
+    jm_context *ctx = NULL;
+    assert_int_equal(jm_context_create(&p, &ctx), JM_OK);
+    jm_particles in = {xyz, N, 0, NULL};
+    jm_mesh m;
+    assert_int_equal(jm_mesh_particles(ctx, &in, &m, NULL), JM_OK);
+    assert_true(m.vertex_count > 1000);
+    float *a = malloc(m.vertex_count * 4), *b = malloc(m.vertex_count * 4);
+    jm_attribute aa = {1, val, a}, bb = {1, val, b};
+    assert_int_equal(jm_context_interpolate(ctx, &in, m.positions, m.vertex_count, &aa, 1), JM_OK);
+    assert_int_equal(jm_interpolate_attributes(&p, &in, m.positions, m.vertex_count, &bb, 1), JM_OK);
+    assert_memory_equal(a, b, m.vertex_count * 4);
+    free(a); free(b); free(xyz); free(val);
+    jm_context_free(ctx);
+}
+
 /* the particles the context's selection leaves out of the mesh are left
  * out of the sums: between a particle inside the particle box (1) and one
  * outside (3), 1 rather than the mean */
@@ -220,6 +252,7 @@ int main(void)
         cmocka_unit_test(test_real_metasphere),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_selection),
+        cmocka_unit_test(test_nearest_everywhere),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
