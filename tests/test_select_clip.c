@@ -71,9 +71,9 @@ static jm_status mesh_of(const jm_params *p0, int threads, const float *xyz, siz
         o->pos = malloc(3 * o->nv * sizeof(float) + 4);
         o->nrm = malloc(3 * o->nv * sizeof(float) + 4);
         o->idx = malloc(3 * o->nt * sizeof(uint32_t) + 4);
-        memcpy(o->pos, m.positions, 3 * o->nv * sizeof(float));
-        if (m.normals) memcpy(o->nrm, m.normals, 3 * o->nv * sizeof(float));
-        memcpy(o->idx, m.indices, 3 * o->nt * sizeof(uint32_t));
+        if (o->nv) memcpy(o->pos, m.positions, 3 * o->nv * sizeof(float));
+        if (o->nv && m.normals) memcpy(o->nrm, m.normals, 3 * o->nv * sizeof(float));
+        if (o->nt) memcpy(o->idx, m.indices, 3 * o->nt * sizeof(uint32_t));
         o->m = m;
         o->m.positions = o->pos;
         o->m.normals = m.normals ? o->nrm : NULL;
