@@ -22,8 +22,8 @@ void select_help(FILE *f)
           "                              box, last: triangles with a corner outside are\n"
           "                              removed, the mesh is open along the cut (a\n"
           "                              tank's walls removed)\n"
-          "      --mesh-aabb-clamp-vertices  move the vertices outside onto the box instead:\n"
-          "                              the cut closed by flat faces, the mesh closed\n",
+          "      --mesh-aabb-clamp-vertices  close the cut instead: the vertices outside\n"
+          "                              move onto the box, the mesh stays closed\n",
           f);
 }
 
