@@ -19,6 +19,7 @@
 #include "inputs.h"
 #include "options.h"
 #include "param_errors.h"
+#include "select_options.h"
 #include "platform.h"
 #include "progress.h"
 #include "pvd.h"
@@ -659,8 +660,7 @@ static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx,
     jmf_attribute *va = NULL;
     size_t nva = 0;
     if (fr.attribute_count) {
-        jm_params p = o->params;
-        jm_status as = vattrs_make(&p, &fr, &mesh, &va, &nva);
+        jm_status as = vattrs_make(ctx, &fr, &mesh, &va, &nva);
         if (as != JM_OK) {
             snprintf(msg, sizeof msg, "%s: interpolating its attributes: %s", f->path, jm_status_message(as));
             jmf_frame_free(&fr);
@@ -674,14 +674,20 @@ static void convert_frame(const convert_options *o, inputs *in, jm_context *ctx,
     jmf_frame_free(&fr); /* the library keeps no pointer to the particles */
     rec->vertices = mesh.vertex_count;
     rec->triangles = mesh.triangle_count;
+    double t3 = platform_now_ms();
+    /* the stages add up to the total: the library's call (t1 to t2) by its
+     * own stages, what they leave (its bookkeeping, the call itself) with
+     * extract; the interpolated --attributes and freeing the frame (t2 to
+     * t3) with attributes */
+    const double lib = st->ms_prepare + st->ms_field + st->ms_extract + st->ms_attributes + st->ms_post;
     rec->ms_field = st->ms_prepare + st->ms_field;
-    rec->ms_extract = st->ms_extract;
-    rec->ms_attributes = st->ms_attributes;
+    rec->ms_extract = st->ms_extract + ((t2 - t1) - lib);
+    rec->ms_attributes = st->ms_attributes + (t3 - t2);
+    rec->ms_post = st->ms_post;
     rec->lib_peak_bytes = st->peak_bytes;
 
     size_t bytes = 0;
     jmf_status ws;
-    double t3 = platform_now_ms();
     if (platform_make_dirs(jb->out, 1) != 0) {
         snprintf(err, sizeof err, "%s: cannot create its directory: %s", jb->out, strerror(errno));
         ws = JMF_E_IO;
@@ -766,7 +772,9 @@ static int report(run *r, const job *jb, outcome *oc)
         } else {
             animation_forecast(r, jb);
         }
-        oc->rec.ms_write += platform_now_ms() - t0;
+        const double dt = platform_now_ms() - t0;
+        oc->rec.ms_write += dt;
+        oc->rec.ms_total += dt;
     } else if (oc->rec.status == STATS_OK) {
         /* the flush to disk and the rename: part of the frame's write time */
         double t0 = platform_now_ms();
@@ -802,7 +810,7 @@ static int report(run *r, const job *jb, outcome *oc)
             r->worst = oc->status;
         return -1;
     }
-    if (rec->particles > 0 && rec->triangles == 0 && r->empty++ == 0)
+    if (rec->particles > 0 && rec->triangles == 0 && !select_any(&o->params) && r->empty++ == 0)
         param_errors_warn_empty(rec->index, rec->input, rec->particles, &o->params);
     if (rec->particles == 0 && r->no_particles++ == 0)
         param_errors_warn_no_particles(rec->index, rec->input, rec->dropped);
@@ -814,14 +822,16 @@ static int report(run *r, const job *jb, outcome *oc)
         printf(": %zu particles", rec->particles);
         if (rec->dropped)
             printf(" (%zu dropped)", rec->dropped);
+        if (st->particles != rec->particles) /* the selection's (select_options.h) */
+            printf(" (%zu meshed)", st->particles);
         printf(", %zu vertices, %zu triangles, %.2f ms -> ", rec->vertices, rec->triangles, rec->ms_total);
         print_path(stdout, rec->output);
         putchar('\n');
         if (o->verbose)
-            printf("  read %.2f ms, field %.2f ms, extract %.2f ms, attributes %.2f ms, write %.2f ms; "
+            printf("  read %.2f ms, field %.2f ms, extract %.2f ms, attributes %.2f ms, post %.2f ms, write %.2f ms; "
                    "%zu isolated, %zu blocks, %zu cells, %zu cavities removed, %d threads, library peak %s, "
                    "process peak %s, %zu bytes written\n",
-                   rec->ms_read, rec->ms_field, rec->ms_extract, rec->ms_attributes, rec->ms_write,
+                   rec->ms_read, rec->ms_field, rec->ms_extract, rec->ms_attributes, rec->ms_post, rec->ms_write,
                    st->isolated, st->blocks, st->cells, st->cavities_removed, st->threads,
                    platform_format_bytes(st->peak_bytes, b1, sizeof b1),
                    platform_format_bytes(rec->peak_rss_bytes, b2, sizeof b2), rec->bytes);

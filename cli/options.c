@@ -13,6 +13,7 @@
 
 #include "platform.h"
 #include "scenes.h"
+#include "select_options.h"
 #include "stats/stats.h"
 
 int options_usage_error(const char *cmd, const char *fmt, ...)
@@ -110,7 +111,10 @@ void options_convert_help(FILE *f)
         "                              restored (25 removes SPH \"orange peel\")\n"
         "      --smooth-normals N      N iterations of normal smoothing (e.g. 10)\n"
         "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n"
-        "\n"
+        "\n",
+        f);
+    select_help(f);
+    fputs("\n"
         "Input and output:\n"
         "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
         "      --frames START:END[:STEP]  select frame numbers; END is inclusive\n"
@@ -251,6 +255,7 @@ static const struct option convert_long[] = {
     {"time-step", required_argument, 0, O_TIMESTEP},
     {"pvd", no_argument, 0, O_PVD},
     {"attributes", required_argument, 0, O_ATTRS},
+    SELECT_LONG_OPTIONS,
     {0, 0, 0, 0},
 };
 
@@ -301,6 +306,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
     o->max_memory = options_default_max_memory();
     o->field_auto = 1;
     int radius_given = 0, rc = OPTIONS_RUN;
+    select_given sel = {0, 0, 0, 0};
     optind = 0; /* GNU: full reinitialisation */
     opterr = 0;
     int c;
@@ -490,9 +496,13 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
                 rc = options_usage_error(cmd, "--attributes needs names (velocity,density) or all");
             o->attributes = optarg;
             break;
-        default: rc = getopt_problem(cmd, c, argv); break;
+        default:
+            rc = select_is_option(c) ? select_option(cmd, c, optarg, &o->params, &sel) : getopt_problem(cmd, c, argv);
+            break;
         }
     }
+    if (rc == OPTIONS_RUN)
+        rc = select_finish(cmd, &o->params, &sel);
     if (rc != OPTIONS_RUN)
         return rc;
     if (o->fps <= 0)

@@ -27,16 +27,44 @@ static const struct {
     {"uv_mode", "--uv"},
     {"uv_scale", "--uv-scale"},
     {"uv_axis", "--uv-axis"},
+    {"particle_aabb_min", "--particle-aabb-min"},
+    {"particle_aabb_max", "--particle-aabb-max"},
+    {"mesh_aabb_min", "--mesh-aabb-min"},
+    {"mesh_aabb_max", "--mesh-aabb-max"},
+    {"mesh_aabb_clamp", "--mesh-aabb-clamp-vertices"},
+    {"min_piece_particles", "--min-piece-particles"},
+    {"min_piece_volume", "--min-piece-volume"},
 };
 
 const char *param_option_name(const char *field)
 {
     if (!field)
         return "the parameters";
+    /* an array's element ("mesh_aabb_max[1]"): the array's option */
+    const size_t n = strcspn(field, "[");
     for (size_t i = 0; i < sizeof options / sizeof options[0]; i++)
-        if (strcmp(options[i].field, field) == 0)
+        if (strlen(options[i].field) == n && strncmp(options[i].field, field, n) == 0)
             return options[i].option;
     return field;
+}
+
+/* A box refused for its minimum not below its maximum on one axis: both
+ * options and the axis in words. 1 if pr was such a problem. */
+static int describe_box(const jm_params *p, const jm_param_problem *pr, char *msg, size_t len)
+{
+    const char *b = strchr(pr->field, '[');
+    const int mesh = strncmp(pr->field, "mesh_aabb_", 10) == 0;
+    if (!b || !pr->min_excluded || !isfinite(pr->min) || !(strncmp(pr->field, "particle_aabb_max", 17) == 0 || mesh))
+        return 0;
+    const int k = b[1] - '0';
+    const float *lo = mesh ? p->mesh_aabb_min : p->particle_aabb_min, *hi = mesh ? p->mesh_aabb_max : p->particle_aabb_max;
+    snprintf(msg, len,
+             "%s %g,%g,%g and %s %g,%g,%g: on %c the minimum %g is not below the maximum %g; accepted: a box whose "
+             "minimum is below its maximum on every axis",
+             mesh ? "--mesh-aabb-min" : "--particle-aabb-min", (double)lo[0], (double)lo[1], (double)lo[2],
+             mesh ? "--mesh-aabb-max" : "--particle-aabb-max", (double)hi[0], (double)hi[1], (double)hi[2], "xyz"[k],
+             (double)lo[k], (double)hi[k]);
+    return 1;
 }
 
 int param_errors_describe(const jm_params *p, char *msg, size_t len)
@@ -44,6 +72,8 @@ int param_errors_describe(const jm_params *p, char *msg, size_t len)
     jm_param_problem pr;
     if (jm_params_check(p, &pr) == JM_OK)
         return 0;
+    if (describe_box(p, &pr, msg, len))
+        return -1;
     snprintf(msg, len, "%s %g is out of range; accepted: %s", param_option_name(pr.field), pr.value,
              pr.accepted);
     return -1;

@@ -58,7 +58,7 @@ void vattrs_free(jmf_attribute *a, size_t n)
     free(a);
 }
 
-jm_status vattrs_make(const jm_params *params, const jmf_frame *fr, const jm_mesh *mesh, jmf_attribute **out,
+jm_status vattrs_make(jm_context *ctx, const jmf_frame *fr, const jm_mesh *mesh, jmf_attribute **out,
                       size_t *n)
 {
     *out = NULL;
@@ -86,7 +86,7 @@ jm_status vattrs_make(const jm_params *params, const jmf_frame *fr, const jm_mes
     }
     if (!s) {
         jm_particles in = {fr->xyz, fr->count, 0, fr->ids};
-        s = jm_interpolate_attributes(params, &in, mesh->positions, mesh->vertex_count, ja, fr->attribute_count);
+        s = jm_context_interpolate(ctx, &in, mesh->positions, mesh->vertex_count, ja, fr->attribute_count);
     }
     free(ja);
     if (s) {

@@ -15,11 +15,12 @@
  *  else prints why and returns the exit status. */
 int vattrs_resolve_all(const char *attributes, const jmf_read_options *read, inputs *frames, char **out);
 
-/** The frame's attributes interpolated to mesh's vertices
- *  (jm_interpolate_attributes), named as in the file with any character
+/** The frame's attributes interpolated to mesh's vertices on ctx, the
+ *  context that made mesh (jm_context_interpolate: its threads and
+ *  parameters), named as in the file with any character
  *  other than a letter, digit or '_' made '_'. *out (n of them) is freed
  *  with vattrs_free. JM_OK or the library's status. */
-jm_status vattrs_make(const jm_params *params, const jmf_frame *fr, const jm_mesh *mesh, jmf_attribute **out,
+jm_status vattrs_make(jm_context *ctx, const jmf_frame *fr, const jm_mesh *mesh, jmf_attribute **out,
                       size_t *n);
 void vattrs_free(jmf_attribute *a, size_t n);
 

@@ -101,9 +101,8 @@ static void vol_big_task(void *arg, size_t k, int worker)
     chunk_runs(j, k, j->big[k], j->nruns[k]);
 }
 
-/* vol[root] gets each piece's signed volume (vol zeroed); 0 if out of memory */
-static int piece_volumes(jm_mem *mem, jm_pool *pool, const float *pos, const uint32_t *idx, size_t nt,
-                         const uint32_t *parent, double *vol)
+int jm_piece_volumes(jm_mem *mem, jm_pool *pool, const float *pos, const uint32_t *idx, size_t nt,
+                     const uint32_t *parent, double *vol)
 {
     const size_t nch = (nt + VOL_CHUNK - 1) / VOL_CHUNK;
     /* about the first vertex (translation-invariant for a closed shell;
@@ -143,7 +142,7 @@ int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, f
     int ok = parent && vol;
     if (ok) {
         jm_mesh_pieces(pool, parent, idx, n, nt);
-        ok = piece_volumes(mem, pool, pos, idx, nt, parent, vol);
+        ok = jm_piece_volumes(mem, pool, pos, idx, nt, parent, vol);
     }
     if (!ok) {
         if (!roots) jm_free(mem, parent, n * sizeof *parent);

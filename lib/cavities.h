@@ -14,6 +14,13 @@
  * jm_mesh_pieces gives it (pieces.h), for smoothing to use again. pool
  * (NULL: this thread) finds the pieces. 0 if out of memory (the mesh is
  * then unchanged). */
+/* vol[root] (vol zeroed, one entry per vertex) gets the signed volume of
+ * each piece of the nt triangles idx, parent[v] being v's root as
+ * jm_mesh_pieces gives it; summed in a fixed order whatever the pool's
+ * threads. 0 if out of memory. */
+int jm_piece_volumes(jm_mem *mem, jm_pool *pool, const float *pos, const uint32_t *idx, size_t nt,
+                     const uint32_t *parent, double *vol);
+
 int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, float *uv, uint32_t *idx, size_t *nv,
                            size_t *ni, double max_volume, uint32_t *roots, size_t *out_removed);
 

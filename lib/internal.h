@@ -117,6 +117,15 @@ typedef struct jm_config {
     /* sph: the box pass's lines (inside_boxes.h): a[k] - b[k] s for s in
      * world units, k = min(s * box_bin, JM_BOX_BINS - 1) */
     float box_a[JM_BOX_BINS], box_b[JM_BOX_BINS], box_bin;
+    /* what is meshed and kept (select.c, small_pieces.c, clip.c; jetmesh.h,
+     * "Selection and clipping"), in units; 0 = off */
+    int sel_box;             /* particles outside [sel_lo, sel_hi] left out */
+    float sel_lo[3], sel_hi[3];
+    int sel_min_group;       /* particle groups smaller than this left out */
+    float sel_link;          /* two particles closer than this: one group */
+    double piece_min_volume; /* mesh pieces enclosing less removed */
+    int clip;                /* 1: triangles outside [clip_lo, clip_hi] removed; 2: vertices clamped */
+    float clip_lo[3], clip_hi[3];
 } jm_config;
 
 jm_status jm_config_resolve(const jm_params *in, jm_config *out, jm_params *out_filled);

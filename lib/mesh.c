@@ -7,6 +7,10 @@
 #include "grow.h"
 #include "keep.h"
 #include "sort.h"
+#include "interpolate.h"
+#include "select.h"
+#include "small_pieces.h"
+#include "clip.h"
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -89,7 +93,7 @@ jm_status jm_context_set_params(jm_context *ctx, const jm_params *params)
     if (st != JM_OK) return st;
     c.unit = unit;
     c.unit_in = ldexpf(1.0f, -unit);
-    jm_unit_world_params(&filled, unit, params->radius);
+    jm_unit_world_params(&filled, unit, params);
     int threads = filled.threads ? filled.threads : cpu_count();
     if (threads > JM_MAX_THREADS) threads = JM_MAX_THREADS;
     filled.threads = threads;
@@ -533,6 +537,20 @@ static jm_status ensure_scratch(jm_context *ctx)
 
 static jm_status make_template(jm_context *ctx);
 
+/* The last steps (jetmesh.h, "Selection and clipping", 3 and 4): small
+ * pieces, then the clip box, on the context's mesh (in units). */
+static jm_status trim_pieces_and_clip(jm_context *ctx, const jm_config *c)
+{
+    size_t removed = 0;
+    if (c->piece_min_volume > 0.0 &&
+        !jm_drop_small_pieces(&ctx->mem, ctx->pool, ctx->pos, ctx->nrm, ctx->uv, ctx->idx, &ctx->nv, &ctx->ni,
+                              c->piece_min_volume, &removed))
+        return JM_E_OUT_OF_MEMORY;
+    if (c->clip && !jm_clip_mesh(&ctx->mem, ctx->pool, c, ctx->pos, ctx->nrm, ctx->uv, ctx->idx, &ctx->nv, &ctx->ni))
+        return JM_E_OUT_OF_MEMORY;
+    return JM_OK;
+}
+
 /* Meshes particles with configuration c into the context's output arrays. */
 static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in, jm_stats *st)
 {
@@ -777,6 +795,12 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->ni = pm.ni;
         st->ms_post += jm_now_ms() - t4;
     }
+    if (c->piece_min_volume > 0.0 || c->clip) {
+        double t5 = jm_now_ms();
+        s = trim_pieces_and_clip(ctx, c);
+        if (s != JM_OK) goto out_job;
+        st->ms_post += jm_now_ms() - t5;
+    }
 
 out_job:
     jm_free(mem, job.iso, g.n_isolated * sizeof *job.iso);
@@ -806,6 +830,9 @@ static jm_status make_template(jm_context *ctx)
     c.smooth_iters = c.smooth_normal_iters = 0;
     c.simplify_error = 0.0f;
     c.normals = 1;
+    /* the shape itself: nothing selected or clipped */
+    c.sel_box = c.sel_min_group = c.clip = 0;
+    c.piece_min_volume = 0.0;
     /* at a lattice node: the symmetric shape (and splashsurf's test case) */
     ctx->t_origin[0] = ctx->t_origin[1] = ctx->t_origin[2] = 0.0f;
     jm_particles one = {ctx->t_origin, 1, 0, NULL};
@@ -879,7 +906,19 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
     ctx->mem.over = 0;
     ctx->mem.refused = 0;
     double t0 = jm_now_ms();
-    jm_status s = run(ctx, &ctx->cfg, particles, &st);
+    /* the particles the selection keeps (select.h), copied */
+    uint8_t *skip = NULL;
+    size_t kept = 0;
+    jm_particles sel;
+    memset(&sel, 0, sizeof sel);
+    jm_status s = jm_select(&ctx->mem, ctx->pool, &ctx->cfg, particles, &skip, &kept);
+    if (s == JM_OK && skip) s = jm_select_copy(&ctx->mem, particles, skip, kept, &sel);
+    jm_free(&ctx->mem, skip, particles->count);
+    if (s == JM_OK) {
+        st.ms_prepare = jm_now_ms() - t0;
+        s = run(ctx, &ctx->cfg, sel.xyz ? &sel : particles, &st);
+    }
+    if (sel.xyz) jm_select_free_copy(&ctx->mem, &sel);
     if ((s == JM_E_OUT_OF_MEMORY || s == JM_E_TOO_LARGE) && atomic_load(&ctx->mem.over)) {
         s = JM_E_TOO_LARGE; /* with the total the refused allocation needed */
         if (ctx->mem.refused > st.estimated_bytes) st.estimated_bytes = ctx->mem.refused;
@@ -965,4 +1004,26 @@ jm_status jm_estimate_bytes(jm_context *ctx, const jm_particles *particles, size
     size_t nb = blocks > 1e15 ? (size_t)1e15 : (size_t)blocks;
     *out_bytes = estimate(c, n, links, nb, ctx->threads);
     return JM_OK;
+}
+
+jm_status jm_context_interpolate(jm_context *ctx, const jm_particles *particles, const float *positions,
+                                 size_t vertex_count, jm_attribute *attributes, size_t attribute_count)
+{
+    size_t total;
+    if (!ctx) return JM_E_INVALID_ARGUMENT;
+    jm_status s = jm_interp_check(particles, positions, vertex_count, attributes, attribute_count, &total);
+    if (s != JM_OK) return s;
+    ctx->mem.limit = ctx->cfg.max_bytes;
+    ctx->mem.over = 0;
+    /* the particles the mesh was made of (select.h) */
+    uint8_t *skip = NULL;
+    size_t kept = 0;
+    if (vertex_count && attribute_count) s = jm_select(&ctx->mem, ctx->pool, &ctx->cfg, particles, &skip, &kept);
+    if (s == JM_OK)
+        s = jm_interp_run(&ctx->mem, ctx->pool, &ctx->cfg, skip, particles, positions, vertex_count, attributes,
+                          attribute_count);
+    jm_free(&ctx->mem, skip, particles->count);
+    if (s == JM_E_OUT_OF_MEMORY && atomic_load(&ctx->mem.over)) s = JM_E_TOO_LARGE;
+    ctx->mem.limit = 0;
+    return s;
 }

@@ -119,6 +119,26 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->unit_in = 1.0f; /* mesh.c sets the unit (units.h) */
     if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);
     c->cull = p.field == JM_FIELD_SPH && !p.no_culling;
+    for (int k = 0; k < 3; k++) {
+        c->sel_box |= p.particle_aabb_min[k] != 0.0f || p.particle_aabb_max[k] != 0.0f;
+        c->clip |= p.mesh_aabb_min[k] != 0.0f || p.mesh_aabb_max[k] != 0.0f;
+    }
+    if (c->sel_box) {
+        memcpy(c->sel_lo, p.particle_aabb_min, sizeof c->sel_lo);
+        memcpy(c->sel_hi, p.particle_aabb_max, sizeof c->sel_hi);
+    }
+    if (p.min_piece_particles > 1) {
+        c->sel_min_group = p.min_piece_particles;
+        /* metasphere: linked, or balls (radius r (1 - t)) touching */
+        const float touch = 2.0f * r * (1.0f - (p.threshold < 0.0f ? p.threshold : 0.0f));
+        c->sel_link = p.field == JM_FIELD_SPH ? c->support : (c->link > touch ? c->link : touch);
+    }
+    c->piece_min_volume = (double)p.min_piece_volume * r * r * r;
+    if (c->clip) {
+        c->clip = p.mesh_aabb_clamp ? 2 : 1;
+        memcpy(c->clip_lo, p.mesh_aabb_min, sizeof c->clip_lo);
+        memcpy(c->clip_hi, p.mesh_aabb_max, sizeof c->clip_hi);
+    }
     if (f) *f = p;
     return JM_OK;
 }

@@ -27,6 +27,29 @@ static int in_range_or_zero(float v, float lo, float hi)
     return v == 0.0f || (isfinite(v) && v >= lo && v <= hi);
 }
 
+/* A box (which: 0 particle_aabb, 1 mesh_aabb): off (all six 0), or finite
+ * with min below max on every axis. */
+static jm_status check_box(const float lo[3], const float hi[3], int which, jm_param_problem *out)
+{
+    static const char *const lo_name[2][3] = {{"particle_aabb_min[0]", "particle_aabb_min[1]", "particle_aabb_min[2]"},
+                                              {"mesh_aabb_min[0]", "mesh_aabb_min[1]", "mesh_aabb_min[2]"}};
+    static const char *const hi_name[2][3] = {{"particle_aabb_max[0]", "particle_aabb_max[1]", "particle_aabb_max[2]"},
+                                              {"mesh_aabb_max[0]", "mesh_aabb_max[1]", "mesh_aabb_max[2]"}};
+    int on = 0;
+    for (int k = 0; k < 3; k++) on |= lo[k] != 0.0f || hi[k] != 0.0f;
+    if (!on) return JM_OK;
+    for (int k = 0; k < 3; k++) {
+        if (!isfinite(lo[k]))
+            return refuse(out, lo_name[which][k], lo[k], -HUGE_VAL, 1, HUGE_VAL, 1, "a finite number");
+        if (!isfinite(hi[k]))
+            return refuse(out, hi_name[which][k], hi[k], -HUGE_VAL, 1, HUGE_VAL, 1, "a finite number");
+        if (!(lo[k] < hi[k]))
+            return refuse(out, hi_name[which][k], hi[k], lo[k], 1, HUGE_VAL, 0,
+                          "above the box's minimum on this axis (min < max on every axis; all six 0 = no box)");
+    }
+    return JM_OK;
+}
+
 jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
 {
     if (out)
@@ -103,5 +126,23 @@ jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
                       "0 (off) to 100000");
     if (!isfinite(p->simplify_error) || p->simplify_error < 0.0f || p->simplify_error > 1000.0f)
         return refuse(out, "simplify_error", p->simplify_error, 0, 0, 1000, 0, "0 (off) to 1000 (times radius)");
+    jm_status b = check_box(p->particle_aabb_min, p->particle_aabb_max, 0, out);
+    if (b != JM_OK) return b;
+    if (p->min_piece_particles < 0)
+        return refuse(out, "min_piece_particles", p->min_piece_particles, 0, 0, INT_MAX, 0, "0 (off) or more");
+    if (!isfinite(p->min_piece_volume) || p->min_piece_volume < 0.0f)
+        return refuse(out, "min_piece_volume", p->min_piece_volume, 0, 0, HUGE_VAL, 0,
+                      "0 (off) or a finite volume above 0 (times radius cubed)");
+    b = check_box(p->mesh_aabb_min, p->mesh_aabb_max, 1, out);
+    if (b != JM_OK) return b;
+    if (p->mesh_aabb_clamp < 0 || p->mesh_aabb_clamp > 1)
+        return refuse(out, "mesh_aabb_clamp", p->mesh_aabb_clamp, 0, 0, 1, 0, "0 or 1");
+    if (p->mesh_aabb_clamp) {
+        int on = 0;
+        for (int k = 0; k < 3; k++) on |= p->mesh_aabb_min[k] != 0.0f || p->mesh_aabb_max[k] != 0.0f;
+        if (!on)
+            return refuse(out, "mesh_aabb_clamp", p->mesh_aabb_clamp, 0, 0, 0, 0,
+                          "0 unless the clip box (mesh_aabb_min/max) is set");
+    }
     return JM_OK;
 }

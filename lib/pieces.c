@@ -120,3 +120,13 @@ void jm_mesh_pieces(jm_pool *pool, uint32_t *parent, const uint32_t *idx, size_t
     jm_pool_run(pool, ct, 1, unite_task, &j);
     jm_pool_run(pool, cv, 1, flatten_task, &j);
 }
+
+void jm_pieces_unite(uint32_t *parent, uint32_t a, uint32_t b)
+{
+    unite(parent, a, b);
+}
+
+uint32_t jm_pieces_find(uint32_t *parent, uint32_t x)
+{
+    return find_shared(parent, x);
+}

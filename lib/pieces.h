@@ -8,4 +8,11 @@
  * depend on the order of the unions, so not on the pool's threads either
  * (NULL or one thread, or a small mesh: the plain serial pass). */
 void jm_mesh_pieces(jm_pool *pool, uint32_t *parent, const uint32_t *idx, size_t n, size_t nt);
+
+/* The same threads' union-find for any other sets (particle_groups.c):
+ * with parent[x] = x to start, jm_pieces_unite joins the sets of a and b
+ * (from any thread, at once) and jm_pieces_find gives x's root; a set's
+ * root is its smallest element whatever the order of the unions. */
+void jm_pieces_unite(uint32_t *parent, uint32_t a, uint32_t b);
+uint32_t jm_pieces_find(uint32_t *parent, uint32_t x);
 #endif

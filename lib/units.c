@@ -10,17 +10,37 @@ int jm_unit_exponent(float radius)
     return k;
 }
 
+/* A box's bound in units: past the float range (a bound far beyond the
+ * numeric domain, where no particle lies), the largest float */
+static float box_units(float v, int k)
+{
+    const float s = ldexpf(v, -k);
+    return isinf(s) && isfinite(v) ? copysignf(FLT_MAX, s) : s;
+}
+
 void jm_unit_params(const jm_params *world, int k, jm_params *units)
 {
     *units = *world;
     units->radius = ldexpf(world->radius, -k);
     units->uv_scale = ldexpf(world->uv_scale, -k); /* 0 (the default, 16 r) stays 0 */
+    for (int a = 0; a < 3; a++) { /* the boxes (0, no box, stays 0) */
+        units->particle_aabb_min[a] = box_units(world->particle_aabb_min[a], k);
+        units->particle_aabb_max[a] = box_units(world->particle_aabb_max[a], k);
+        units->mesh_aabb_min[a] = box_units(world->mesh_aabb_min[a], k);
+        units->mesh_aabb_max[a] = box_units(world->mesh_aabb_max[a], k);
+    }
 }
 
-void jm_unit_world_params(jm_params *filled, int k, float radius)
+void jm_unit_world_params(jm_params *filled, int k, const jm_params *world)
 {
-    filled->radius = radius;
+    filled->radius = world->radius;
     filled->uv_scale = ldexpf(filled->uv_scale, k);
+    for (int a = 0; a < 3; a++) { /* as given */
+        filled->particle_aabb_min[a] = world->particle_aabb_min[a];
+        filled->particle_aabb_max[a] = world->particle_aabb_max[a];
+        filled->mesh_aabb_min[a] = world->mesh_aabb_min[a];
+        filled->mesh_aabb_max[a] = world->mesh_aabb_max[a];
+    }
 }
 
 jm_status jm_unit_check(const jm_config *c, const float lo[3], const float hi[3], double reach)

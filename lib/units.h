@@ -25,12 +25,13 @@
 /* k: r = m 2^k with m in [0.5, 1). r must be finite and above 0. */
 int jm_unit_exponent(float radius);
 
-/* The parameters in units of 2^k: radius and uv_scale (the only members in
- * world units) times 2^-k. */
+/* The parameters in units of 2^k: radius, uv_scale and the boxes (the only
+ * members in world units) times 2^-k. */
 void jm_unit_params(const jm_params *world, int k, jm_params *units);
 
-/* The filled-in parameters back in world units (radius given by the user). */
-void jm_unit_world_params(jm_params *filled, int k, float radius);
+/* The filled-in parameters back in world units (radius and boxes as the
+ * user gave them in world). */
+void jm_unit_world_params(jm_params *filled, int k, const jm_params *world);
 
 /* Checks the frame's particle bounds lo, hi (in units) against the numeric
  * domain for configuration c (in units, k its exponent): JM_OK or

@@ -125,6 +125,60 @@ seq_s=$(median_of default) one_s=$(median_of one_at_a_time) nosync_s=$(median_of
 echo "sequence (median of $ROUNDS): $seq_s s ($seq_files GLB files, ok=$seq_ok), one at a time $one_s s," \
   "--no-sync $nosync_s s; 100 process starts: $starts_s s"
 
+# --- --attributes velocity on a 501-frame run (issue 32) -------------------------
+# A real SPlisHSPlasH frame with velocities (6,859 particles) repeated as a
+# 501-frame sequence, converted to per-frame GLBs with and without
+# --attributes velocity, alternating rounds; medians, and their ratio.
+VEL_IN="$SHARED/data/splashsurf/dam_break_frame_9_6859_particles.bgeo"
+VFRAMES=${JETMESH_BENCH_VEL_FRAMES:-501}
+VROUNDS=3
+[ -n "$QUICK" ] && VROUNDS=1
+vel_plain=null vel_attr=null vel_ratio=null vel_ok=false
+: >"$OUT/velocity.times"
+if [ -f "$VEL_IN" ]; then
+  vel_abs="$(cd "$(dirname "$VEL_IN")" && pwd)/$(basename "$VEL_IN")"
+  mkdir -p "$T/vel"
+  i=0
+  while [ $i -lt "$VFRAMES" ]; do ln -s "$vel_abs" "$T/vel/f_$(printf %04d $i).bgeo"; i=$((i + 1)); done
+  vel_cmd="$J convert '<$VFRAMES links to $VEL_IN>/f_{}.bgeo' -r 0.025 -o '\$TMP/f_{}.glb' -q"
+  echo "$vel_cmd" >>"$OUT/commands.sh"
+  echo "$vel_cmd --attributes velocity" >>"$OUT/commands.sh"
+  echo "== velocity: $vel_cmd [--attributes velocity] ($VROUNDS rounds)"
+  vel_s() { # extra options...: the wall seconds of one conversion, or "fail"
+    rm -rf "$T/velout"
+    t0=$(now_ns)
+    if "$J" convert "$T/vel/f_{}.bgeo" -r 0.025 -o "$T/velout/f_{}.glb" -q "$@" >>"$OUT/velocity.log" 2>&1 &&
+      [ "$(find "$T/velout" -name 'f_*.glb' | wc -l)" -eq "$VFRAMES" ]; then
+      t1=$(now_ns)
+      awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.3f", (b - a) / 1e9 }'
+    else
+      echo fail
+    fi
+  }
+  r=0
+  while [ $r -lt "$VROUNDS" ]; do
+    echo "plain $(vel_s)" >>"$OUT/velocity.times"
+    echo "velocity $(vel_s --attributes velocity)" >>"$OUT/velocity.times"
+    r=$((r + 1))
+  done
+  rm -rf "$T/vel" "$T/velout"
+  if grep -q ' fail$' "$OUT/velocity.times"; then
+    echo "bench.sh: a velocity conversion failed (see $OUT/velocity.log)" >&2
+    status=1
+  else
+    vel_ok=true
+  fi
+  vel_plain=$(awk '$1 == "plain" && $2 != "fail" { print $2 }' "$OUT/velocity.times" | sort -n |
+    awk '{ a[NR] = $1 } END { if (NR) printf "%.3f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2; else print "null" }')
+  vel_attr=$(awk '$1 == "velocity" && $2 != "fail" { print $2 }' "$OUT/velocity.times" | sort -n |
+    awk '{ a[NR] = $1 } END { if (NR) printf "%.3f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2; else print "null" }')
+  [ "$vel_plain" != null ] && [ "$vel_attr" != null ] &&
+    vel_ratio=$(awk -v a="$vel_attr" -v b="$vel_plain" 'BEGIN { printf "%.3f", a / b }')
+  echo "velocity (median of $VROUNDS, $VFRAMES frames): $vel_plain s without, $vel_attr s with --attributes velocity: ${vel_ratio}x"
+else
+  echo "== velocity: skipped: $VEL_IN is missing (set JETMESH_SHARED)"
+fi
+
 # --- side by side with splashsurf (../shared/peers/splashsurf/ssbench) -----------
 # The same 100k block file, alternating rounds: splashsurf 0.14 read +
 # reconstruct at 1 and 2 threads and its recommended post-processing, against
@@ -247,7 +301,9 @@ jstr() { printf '"%s"' "$(printf '%s' "$1" | sed 's/\\/\\\\/g; s/"/\\"/g')"; }
     "$starts_s" "$(jstr "$seq_cmd")" "$(jstr "$starts_cmd")"
   printf '  "blender": '
   if [ -s "$BLENDER_DIR/blender.json" ]; then cat "$BLENDER_DIR/blender.json"; else printf 'null'; fi
-  printf '\n}\n'
+  printf ',\n'
+  printf '  "velocity": {"frames": %s, "rounds": %s, "ok": %s, "plain_s": %s, "velocity_s": %s, "ratio": %s}\n}\n' \
+    "$VFRAMES" "$VROUNDS" "$vel_ok" "$vel_plain" "$vel_attr" "$vel_ratio"
 } >"$BUILD/bench.json"
 echo "wrote $BUILD/bench.json"
 
@@ -418,6 +474,10 @@ if (BL) {
 row("100-frame jet sequence to GLB faster than 100 process starts (medians)",
     SQ.convert_s != null && SQ.starts_s != null ? `${f(SQ.convert_s)} s against ${f(SQ.starts_s)} s (${f(SQ.starts_s / SQ.convert_s, 2)}×)` : "–",
     SQ.convert_s != null && SQ.starts_s != null && SQ.ok ? SQ.convert_s < SQ.starts_s : null);
+const VL = B.velocity;
+row(`--attributes velocity ≤ 1.3× the wall time without it (${VL ? VL.frames : "–"} frames of 6,859 particles to GLB, medians)`,
+    VL && VL.ratio != null ? `${f(VL.ratio, 2)}× (${f(VL.velocity_s, 2)} s against ${f(VL.plain_s, 2)} s)` : "–",
+    VL && VL.ratio != null && VL.ok ? VL.ratio <= 1.3 : null);
 const w2 = b1m2 && b1m2.write ? b1m2.write.fraction_of_total : null, w1 = b1m1 && b1m1.write ? b1m1.write.fraction_of_total : null;
 row("GLB write of the 1M mesh ≤ 15 % of total (write / (mesh + write), 2 threads)",
     w2 != null ? `${f(100 * w2, 1)} % (${ms(b1m2.ms.write.median)} ms for ${mb(b1m2.write.bytes)} MB; 1 thread: ${w1 != null ? f(100 * w1, 1) : "–"} %)` : "–",

@@ -44,7 +44,7 @@ for st in 0 1 2 3; do
 done
 # the statistics columns
 for c in index input particles dropped vertices triangles bytes ms_read ms_field ms_extract \
-    ms_attributes ms_write ms_total peak_rss_bytes lib_peak_bytes status error; do
+    ms_attributes ms_post ms_write ms_total peak_rss_bytes lib_peak_bytes status error; do
     sed -n '/^STATISTICS$/,/^EXIT STATUS$/p' "$T/page" | grep -q -- "$c" || fail "statistics column $c not documented"
 done
 echo "man page ok"

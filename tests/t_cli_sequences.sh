@@ -67,7 +67,8 @@ echo "ok: --animate: one validated file, a node per frame, STEP scale keys 0 / k
 # no higher than a run writing one file per frame (+8 MB of slack)
 run 0 convert "$S/jet_{}.csv" -r 0.025 --animate -o "$T/all.glb" --stats "$T/anim.csv" --frame-jobs 1
 run 0 convert "$S/jet_{}.csv" -r 0.025 -o "$T/pf/j_{}.glb" --stats "$T/pf.csv" --frame-jobs 1
-peak() { awk -F, '$1 == 99 { print int($15 / 1048576) }' "$1"; }
+peak() { awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "peak_rss_bytes") c = i }
+  $1 == 99 { print int($c / 1048576) }' "$1"; }
 size=$(($(wc -c <"$T/all.glb") / 1048576))
 [ "$size" -ge 30 ] || fail "the 100-frame GLB is only $size MiB"
 [ "$(peak "$T/anim.csv")" -le $(($(peak "$T/pf.csv") + 8)) ] ||

@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere, the interior proofs), and the smoothing's AVX2 and plain C paths, give byte-identical meshes.
+# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere, the interior proofs), the smoothing's and the interpolated attributes' AVX2 and plain C paths, give byte-identical meshes.
 set -e
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root"
@@ -19,6 +19,8 @@ smooth="--field sph --method mc --smooth 25 --smooth-normals 10"
 "$J" generate block 40000 -q -o "$tmp/block.xyz"
 bargs="-r 0.025 --field sph --smoothing-length 2 --threshold 0.6 --method mc"
 "$J" convert "$tmp/block.xyz" $bargs -o "$tmp/block.ply" -q
+# velocities on the vertices (interpolate.c: the AVX2 sums against plain C)
+"$J" convert "$in" -r 0.025 --field sph --method mc --attributes velocity -o "$tmp/attrs.ply" -q
 for v in 1 2 3; do
   # variant 3 (plain C) also builds the smoothing's plain code only
   extra=; [ "$v" = 3 ] && extra=-DJM_SMOOTH_PLAIN
@@ -45,4 +47,7 @@ for v in 1 2 3; do
   "build-splat$v/jetmesh" convert "$tmp/block.xyz" $bargs -o "$tmp/block$v.ply" -q
   cmp -s "$tmp/block.ply" "$tmp/block$v.ply" || { echo "variant $v: the lattice block's runs differ"; exit 1; }
   echo "variant $v: lattice block identical"
+  "build-splat$v/jetmesh" convert "$in" -r 0.025 --field sph --method mc --attributes velocity -o "$tmp/attrs$v.ply" -q
+  cmp -s "$tmp/attrs.ply" "$tmp/attrs$v.ply" || { echo "variant $v: the interpolated velocities differ"; exit 1; }
+  echo "variant $v: interpolated velocities identical"
 done

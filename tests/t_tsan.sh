@@ -25,6 +25,11 @@ tsan 0 convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.02
 tsan 0 convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 --field sph --anisotropic \
     --method mc -j 4 -o "$T/dam_aniso.obj" -q
 tsan 0 convert samples/jet/jet_099.csv -r 0.025 -j 4 -o "$T/jet.glb" -q
+# the particle groups' unions, the clip's pieces and the interpolated
+# velocities on the threads
+tsan 0 convert samples/real/double_dam_break_frame_26_4732_particles.vtk -r 0.025 --field sph --method mc -j 4 \
+    --min-piece-particles 3 --min-piece-volume 10 --mesh-aabb-min -1,0,-1 --mesh-aabb-max 0.5,1,1 \
+    --mesh-aabb-clamp-vertices --attributes velocity -o "$T/select.ply" -q
 # a frame large enough for the grid's chunked passes and two-ended
 # placement (2^17 particles or more) and the threads' union-find of the
 # mesh's pieces (2^17 triangles or more)
@@ -40,4 +45,4 @@ tsan 1 convert "$T/in/jet_{}.csv" -r 0.025 -o "$T/stop/m_{}.glb" --frame-jobs 3 
 [ "$(ls "$T/stop" | wc -l)" = 3 ] || fail "stop: expected 3 outputs"
 # a memory share too small: frames redone alone
 tsan 0 convert "$T"/in/jet_09[4-6].csv -r 0.025 -o "$T/mem/" --frame-jobs 3 -j 3 --max-memory 12M -q
-echo "ThreadSanitizer: no reports (library pool, a frame of 140,000 particles, frames at once, stop, keep-going, retry alone)"
+echo "ThreadSanitizer: no reports (library pool, selection and clipping, --attributes, a frame of 140,000 particles, frames at once, stop, keep-going, retry alone)"

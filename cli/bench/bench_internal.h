@@ -82,6 +82,7 @@ typedef struct bench_opts {
     int threshold_given;
     int smooth_iters, smooth_normal_iters; /* post-processing, as jm_params */
     double simplify;
+    jm_params select;   /* the selection options' members (select_options.h) */
     double min_time;
     long repeat, warmup, max_repeat;
     tpl_mode templates;

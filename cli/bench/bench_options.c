@@ -14,6 +14,7 @@
 #include "../options.h"
 #include "../platform.h"
 #include "../scenes.h"
+#include "../select_options.h"
 
 #define CMD "bench"
 
@@ -45,6 +46,9 @@ static void bench_help(FILE *f)
         "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
         "      --link-distance L       metasphere link distance relative to R (default pi)\n"
         "      --smooth N, --smooth-normals N, --simplify E  post-processing, as convert\n"
+        "      --particle-aabb-min X,Y,Z, --particle-aabb-max X,Y,Z, --min-piece-particles N,\n"
+        "      --min-piece-volume V, --mesh-aabb-min X,Y,Z, --mesh-aabb-max X,Y,Z,\n"
+        "      --mesh-aabb-clamp-vertices  selection and clipping, as convert\n"
         "  -j, --threads LIST          worker threads; 0 = all cores (default 1,CORES)\n"
         "      --templates auto|on|off|both  sphere templates for isolated particles\n"
         "                              (auto: both for spray scenes, on otherwise)\n"
@@ -290,6 +294,7 @@ static const struct option bench_long[] = {
     {"smooth", required_argument, 0, B_POST_SMOOTH},
     {"smooth-normals", required_argument, 0, B_POST_NSMOOTH},
     {"simplify", required_argument, 0, B_POST_SIMPLIFY},
+    SELECT_LONG_OPTIONS,
     {0, 0, 0, 0},
 };
 
@@ -307,6 +312,7 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
 
     bench_input pending; /* a bare "block"/"spray" waiting for its N */
     int have_pending = 0, rc = OPTIONS_RUN, c;
+    select_given sel = {0, 0, 0, 0};
     optind = 0;
     opterr = 0;
     while (rc == OPTIONS_RUN && (c = getopt_long(argc, argv, "-:r:c:j:q", bench_long, NULL)) != -1) {
@@ -459,11 +465,17 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case B_HELP: bench_help(stdout); return OPTIONS_DONE;
         case ':': return options_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
         default:
+            if (select_is_option(c)) {
+                rc = select_option(CMD, c, optarg, &o->select, &sel);
+                break;
+            }
             if (optopt)
                 return options_usage_error(CMD, "unknown option '-%c'", optopt);
             return options_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
         }
     }
+    if (rc == OPTIONS_RUN)
+        rc = select_finish(CMD, &o->select, &sel);
     if (rc != OPTIONS_RUN)
         return rc;
     if (have_pending)

@@ -13,6 +13,7 @@
 
 #include "../../formats/writer.h"
 #include "bench_options.h"
+#include "../select_options.h"
 #include "../param_errors.h"
 #include "../platform.h"
 #include "../scenes.h"
@@ -135,6 +136,7 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
     p.smooth_iterations = o->smooth_iters;
     p.smooth_normal_iterations = o->smooth_normal_iters;
     p.simplify_error = (float)o->simplify;
+    select_copy(&p, &o->select);
 
     if (in->loaded != 1) {
         snprintf(c->err, sizeof c->err, "%s", in->err);

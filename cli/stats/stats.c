@@ -215,7 +215,7 @@ static void json_string(FILE *f, const char *s)
 static void write_csv(FILE *f, const stats_log *log, const stats_summary *s)
 {
     fputs("index,input,output,particles,dropped,vertices,triangles,bytes,ms_read,ms_field,"
-          "ms_extract,ms_attributes,ms_write,ms_total,peak_rss_bytes,lib_peak_bytes,status,error\n",
+          "ms_extract,ms_attributes,ms_post,ms_write,ms_total,peak_rss_bytes,lib_peak_bytes,status,error\n",
           f);
     for (size_t i = 0; i < log->count; i++) {
         const stats_record *r = &log->items[i];
@@ -223,9 +223,9 @@ static void write_csv(FILE *f, const stats_log *log, const stats_summary *s)
         csv_string(f, r->input);
         fputc(',', f);
         csv_string(f, r->output);
-        fprintf(f, ",%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu,%zu,%s,", r->particles,
+        fprintf(f, ",%zu,%zu,%zu,%zu,%zu,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%zu,%zu,%s,", r->particles,
                 r->dropped, r->vertices, r->triangles, r->bytes, r->ms_read, r->ms_field,
-                r->ms_extract, r->ms_attributes, r->ms_write, r->ms_total, r->peak_rss_bytes,
+                r->ms_extract, r->ms_attributes, r->ms_post, r->ms_write, r->ms_total, r->peak_rss_bytes,
                 r->lib_peak_bytes, stats_status_name(r->status));
         csv_string(f, r->error);
         fputc('\n', f);
@@ -266,10 +266,10 @@ static void write_json(FILE *f, const stats_log *log, const stats_summary *s)
         fprintf(f,
                 ", \"particles\": %zu, \"dropped\": %zu, \"vertices\": %zu, \"triangles\": %zu, "
                 "\"bytes\": %zu, \"ms_read\": %.3f, \"ms_field\": %.3f, \"ms_extract\": %.3f, "
-                "\"ms_attributes\": %.3f, \"ms_write\": %.3f, \"ms_total\": %.3f, "
+                "\"ms_attributes\": %.3f, \"ms_post\": %.3f, \"ms_write\": %.3f, \"ms_total\": %.3f, "
                 "\"peak_rss_bytes\": %zu, \"lib_peak_bytes\": %zu, \"status\": \"%s\", \"error\": ",
                 r->particles, r->dropped, r->vertices, r->triangles, r->bytes, r->ms_read,
-                r->ms_field, r->ms_extract, r->ms_attributes, r->ms_write, r->ms_total,
+                r->ms_field, r->ms_extract, r->ms_attributes, r->ms_post, r->ms_write, r->ms_total,
                 r->peak_rss_bytes, r->lib_peak_bytes, stats_status_name(r->status));
         json_string(f, r->error);
         fputc('}', f);

@@ -17,6 +17,8 @@ typedef struct stats_record {
     char *output;
     size_t particles, dropped, vertices, triangles, bytes;
     double ms_read, ms_field, ms_extract, ms_attributes, ms_write, ms_total;
+    double ms_post; /* smoothing, simplification, small pieces, clip box (jm_stats.ms_post);
+                       read + field + extract + attributes + post + write = total */
     size_t peak_rss_bytes, lib_peak_bytes;
     stats_status status;
     char *error; /* NULL unless failed */
@@ -68,7 +70,7 @@ int stats_write(const char *path, const stats_log *log, const stats_summary *sum
 int stats_path_ok(const char *path);
 
 /** Writes a stacked bar chart of each frame's time by stage (read, field,
- *  extract, attributes, write) as standalone SVG (atomically). 0 or -1. */
+ *  extract, attributes, post, write) as standalone SVG (atomically). 0 or -1. */
 int stats_write_svg(const char *path, const stats_log *log, const stats_summary *sum,
                     char *err, size_t errlen);
 

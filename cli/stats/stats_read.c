@@ -127,6 +127,7 @@ static int set_field(stats_record *rec, const char *name, const char *text)
         {"ms_field", offsetof(stats_record, ms_field)},
         {"ms_extract", offsetof(stats_record, ms_extract)},
         {"ms_attributes", offsetof(stats_record, ms_attributes)},
+        {"ms_post", offsetof(stats_record, ms_post)}, /* 0 when absent: files before issue 32 */
         {"ms_write", offsetof(stats_record, ms_write)},
         {"ms_total", offsetof(stats_record, ms_total)},
     };

@@ -8,10 +8,10 @@
 #include "../../formats/atomic_file.h"
 #include "../../lib/jetmesh.h"
 
-#define STAGES 5
+#define STAGES 6
 
-static const char *stage_name[STAGES] = {"read", "field", "extract", "attributes", "write"};
-static const char *stage_color[STAGES] = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f"};
+static const char *stage_name[STAGES] = {"read", "field", "extract", "attributes", "post", "write"};
+static const char *stage_color[STAGES] = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#b07aa1", "#59a14f"};
 
 static void stage_times(const stats_record *r, double t[STAGES])
 {
@@ -19,7 +19,8 @@ static void stage_times(const stats_record *r, double t[STAGES])
     t[1] = r->ms_field;
     t[2] = r->ms_extract;
     t[3] = r->ms_attributes;
-    t[4] = r->ms_write;
+    t[4] = r->ms_post;
+    t[5] = r->ms_write;
     for (int i = 0; i < STAGES; i++)
         if (!(t[i] > 0))
             t[i] = 0;
