@@ -3,8 +3,10 @@
 #include "anisotropy.h"
 #include "cpu.h"
 #include "internal.h"
-#include <string.h>
 #include <math.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <string.h>
 
 /* The one-at-a-time loop is built for x86-64-v4 and AVX2 machines and for
  * any x86-64 (JM_CLONES_V4, internal.h): the same bits. */
@@ -119,4 +121,79 @@ void jm_an_moments2(const float *xs, const float *ys, const float *zs, size_t gr
 #endif
     jm_an_moments(xs, ys, zs, groups, p, rad, out_p);
     jm_an_moments(xs, ys, zs, groups, q, rad, out_q);
+}
+
+/* a candidate's squared distance to [lo, hi] under lim (plain C) */
+static inline int in_reach(float x, float y, float z, const float lo[3], const float hi[3], float lim)
+{
+    float dx = lo[0] - x > x - hi[0] ? lo[0] - x : x - hi[0];
+    float dy = lo[1] - y > y - hi[1] ? lo[1] - y : y - hi[1];
+    float dz = lo[2] - z > z - hi[2] ? lo[2] - z : z - hi[2];
+    dx = dx > 0.0f ? dx : 0.0f;
+    dy = dy > 0.0f ? dy : 0.0f;
+    dz = dz > 0.0f ? dz : 0.0f;
+    return dx * dx + dy * dy + dz * dz < lim;
+}
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+/* 8 candidates at a time: the same comparisons in lanes, the kept ones
+ * moved to the front of the step by a permutation from the mask's table */
+static uint32_t perm[256][8]; /* per mask: the kept lanes' indices first */
+static pthread_once_t perm_once = PTHREAD_ONCE_INIT;
+static void perm_init(void)
+{
+    for (int k = 0; k < 256; k++) {
+        int n = 0;
+        for (int l = 0; l < 8; l++)
+            if (k >> l & 1) perm[k][n++] = (uint32_t)l;
+        while (n < 8) perm[k][n++] = 0;
+    }
+}
+
+__attribute__((target("avx2"))) static size_t keep_avx2(float *xs, float *ys, float *zs, size_t m, const float lo[3],
+                                                       const float hi[3], float lim, size_t *done)
+{
+    pthread_once(&perm_once, perm_init);
+    const __m256 l0 = _mm256_set1_ps(lo[0]), l1 = _mm256_set1_ps(lo[1]), l2 = _mm256_set1_ps(lo[2]);
+    const __m256 h0 = _mm256_set1_ps(hi[0]), h1 = _mm256_set1_ps(hi[1]), h2 = _mm256_set1_ps(hi[2]);
+    const __m256 zero = _mm256_setzero_ps(), vlim = _mm256_set1_ps(lim);
+    size_t k = 0, t = 0;
+    for (; t + 8 <= m; t += 8) {
+        const __m256 x = _mm256_loadu_ps(xs + t), y = _mm256_loadu_ps(ys + t), z = _mm256_loadu_ps(zs + t);
+        /* max(a, b) as (a > b ? a : b): _mm256_max_ps(b, a) */
+        const __m256 dx = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(x, h0), _mm256_sub_ps(l0, x)), zero);
+        const __m256 dy = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(y, h1), _mm256_sub_ps(l1, y)), zero);
+        const __m256 dz = _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(z, h2), _mm256_sub_ps(l2, z)), zero);
+        const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+        const int mask = _mm256_movemask_ps(_mm256_cmp_ps(d2, vlim, _CMP_LT_OQ));
+        const __m256i p = _mm256_loadu_si256((const __m256i *)perm[mask]);
+        /* k <= t: the stores never pass the loads still to come */
+        _mm256_storeu_ps(xs + k, _mm256_permutevar8x32_ps(x, p));
+        _mm256_storeu_ps(ys + k, _mm256_permutevar8x32_ps(y, p));
+        _mm256_storeu_ps(zs + k, _mm256_permutevar8x32_ps(z, p));
+        k += (size_t)__builtin_popcount((unsigned)mask);
+    }
+    *done = t;
+    return k;
+}
+#define JM_KEEP_AVX2 1
+#endif
+
+size_t jm_an_keep_in_reach(float *xs, float *ys, float *zs, size_t m, const float lo[3], const float hi[3], float R2)
+{
+    const float lim = R2 * 1.0001f;
+    size_t k = 0, t = 0;
+#ifdef JM_KEEP_AVX2
+    if (jm_cpu_avx2()) k = keep_avx2(xs, ys, zs, m, lo, hi, lim, &t);
+#endif
+    for (; t < m; t++) {
+        const float x = xs[t], y = ys[t], z = zs[t];
+        /* written always, kept by advancing k (k <= t) */
+        xs[k] = x;
+        ys[k] = y;
+        zs[k] = z;
+        k += (size_t)in_reach(x, y, z, lo, hi, lim);
+    }
+    return k;
 }

@@ -24,4 +24,12 @@ void jm_an_moments(const float *xs, const float *ys, const float *zs, size_t gro
 void jm_an_moments2(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
                     const float q[3], const jm_an_radii *rad, double out_p[JM_AN_MOMENTS],
                     double out_q[JM_AN_MOMENTS]);
+
+/* Keeps, in order, the m candidates xs[t], ys[t], zs[t] within r_n (R2 =
+ * r_n^2, with 1e-4 to spare for float distances) of the box [lo, hi]
+ * holding a cell's particles: the others add exact zeros to every moment
+ * of every particle there (a third of the cells around a cell lie out of
+ * reach of all of it). Returns the count kept; the same on every path
+ * (AVX-512, AVX2 or C: the same float comparisons). */
+size_t jm_an_keep_in_reach(float *xs, float *ys, float *zs, size_t m, const float lo[3], const float hi[3], float R2);
 #endif

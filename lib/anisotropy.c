@@ -117,9 +117,9 @@ static void copy_run(const an_job *job, float *xs, float *ys, float *zs, size_t 
 }
 
 /* The neighbourhoods of the particles of cell ci: the candidates of the
- * cells around are copied once into structure-of-arrays form (padded to 8
- * with far-away points), then the particles sum over them (aniso_moments.h),
- * two at a time. */
+ * cells around are copied once into structure-of-arrays form (those in
+ * reach, padded to 8 with far-away points), then the particles sum over
+ * them (aniso_moments.h), two at a time. */
 static void an_cell(void *arg, size_t ci, int worker)
 {
     an_job *job = arg;
@@ -159,7 +159,16 @@ static void an_cell(void *arg, size_t ci, int worker)
                     }
                     t += k;
                 }
-        if (pass == 1) copy_run(job, xs, ys, zs, run_to, run_from, run_n);
+        if (pass == 1) {
+            copy_run(job, xs, ys, zs, run_to, run_from, run_n);
+            float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++)
+                for (int a = 0; a < 3; a++) {
+                    lo[a] = fminf(lo[a], GP(g, i)[a]);
+                    hi[a] = fmaxf(hi[a], GP(g, i)[a]);
+                }
+            t = m = jm_an_keep_in_reach(xs, ys, zs, m, lo, hi, c->an_radius * c->an_radius);
+        }
         if (pass == 0) {
             m = t;
             size_t cap = (m + 7) & ~(size_t)7;
