@@ -7,10 +7,10 @@
  * geometric mean of 1) a sheet's kernels flatten to 0.4 h = 0.8 r along its
  * normal, reaching 1.6 r: between layers 2 r apart the field fell to 0.3,
  * under the threshold (a closed inner shell, air inside the liquid), one
- * layer came out 30 % thinner than the isotropic surface (the same integral
+ * layer came out 26 % thinner than the isotropic surface (the same integral
  * in a narrower profile), and the particles just under any surface, whose
  * neighbourhoods the surface also cuts, flattened as well and opened holes
- * wherever the liquid is packed unevenly. Four bounds:
+ * wherever the liquid is packed unevenly. Three bounds on the axes:
  * - JM_AN_NOISE: eigenvalue ratios up to 1.5 are left isotropic (only the
  *   part beyond shapes the axes): a full neighbourhood measures up to about
  *   that, and the particles a layer or two under a surface (ratios 1.3 to
@@ -24,15 +24,20 @@
  *   eigenvalue: for L layers 2r apart, T = 2 r L): one layer keeps its
  *   thickness within 3 % of the isotropic surface's, two and more within 2 %
  *   in that model.
- * - jm_an_alpha: particles with few others within the support (droplets,
- *   small clusters; one layer has 8 to 10, a flat surface 15, bulk 23) keep
- *   the isotropic kernel where they are, blended smoothly in (their far
- *   neighbourhood, a nearby sheet, would shape them and pull them in). */
+ * And a droplet near a sheet has the sheet's neighbourhood: its centre moved
+ * several r into the sheet and its kernel took the sheet's shape. The near
+ * count (jm_an_near: particles within the support, counted smoothly; one
+ * layer has 8 to 10, a flat surface 15, bulk 23) holds both back: centres
+ * move fully from 10 (jm_an_move_weight), kernels take their shape fully
+ * from 5 (jm_an_shape_weight: single particles, pairs and threes keep the
+ * sphere; sparse single layers, 4 to 9, need their flattening most). */
 #define JM_AN_NOISE 1.5
 #define JM_AN_FLOOR 0.7
 #define JM_AN_SHEET 0.85
-#define JM_AN_NEAR_LO 5.0
-#define JM_AN_NEAR_HI 10.0
+#define JM_AN_MOVE_LO 5.0
+#define JM_AN_MOVE_HI 10.0
+#define JM_AN_SHAPE_LO 2.0
+#define JM_AN_SHAPE_HI 5.0
 
 void jm_an_near_radius(const jm_config *c, float *S2, float *invB)
 {
@@ -41,12 +46,17 @@ void jm_an_near_radius(const jm_config *c, float *S2, float *invB)
     *invB = 1.0f / (S * S * (1.0f - 0.5625f));
 }
 
-double jm_an_alpha(double near)
+/* 0 up to lo, 1 from hi, smoothly (C1) between */
+static double ramp(double x, double lo, double hi)
 {
-    double t = (near - JM_AN_NEAR_LO) / (JM_AN_NEAR_HI - JM_AN_NEAR_LO);
+    double t = (x - lo) / (hi - lo);
     t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
     return t * t * (3.0 - 2.0 * t);
 }
+
+double jm_an_move_weight(double near) { return ramp(near, JM_AN_MOVE_LO, JM_AN_MOVE_HI); }
+
+double jm_an_shape_weight(double near) { return ramp(near, JM_AN_SHAPE_LO, JM_AN_SHAPE_HI); }
 
 void jm_an_axes(const jm_config *c, const double val[3], double alpha, double s[3])
 {
@@ -75,6 +85,6 @@ void jm_an_axes(const jm_config *c, const double val[3], double alpha, double s[
         }
         s[2] = f;
     }
-    /* alpha blends toward the sphere (geometrically: the product stays) */
+    /* alpha blends toward the sphere, geometrically (the product stays) */
     for (int k = 0; k < 3; k++) s[k] = c->an_ks * (alpha < 1.0 ? pow(s[k], alpha) : s[k]);
 }

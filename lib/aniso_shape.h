@@ -18,13 +18,18 @@ static inline float jm_an_near(float d2, float S2, float invB)
 /* S2 and invB of the near count: S the SPH support 2h (at most r_n). */
 void jm_an_near_radius(const jm_config *c, float *S2, float *invB);
 
-/* How anisotropic a particle's kernel is, 0 to 1, from its near count
- * (itself not counted): 0 (the isotropic kernel at the particle itself)
- * for droplets and small clusters, 1 for sheets and surfaces. */
-double jm_an_alpha(double near);
+/* How far a particle's centre moves toward its smoothed place, 0 to 1,
+ * from its near count (itself not counted): 0 for droplets and small
+ * clusters (up to 5 others within the support), 1 from 10 (one layer of
+ * particles has 8 to 10, a flat surface about 15, bulk 23), smoothly. */
+double jm_an_move_weight(double near);
+
+/* How much a kernel takes its neighbourhood's shape, 0 (a sphere) to 1,
+ * from its near count: 0 up to 2 others within the support, 1 from 5. */
+double jm_an_shape_weight(double near);
 
 /* The axes s[0] >= s[1] >= s[2] relative to h (their product k_s^3) of a
  * kernel along the eigenvectors of its neighbourhood's covariance, from its
- * eigenvalues val (descending) and alpha. */
+ * eigenvalues val (descending) and the shape weight alpha. */
 void jm_an_axes(const jm_config *c, const double val[3], double alpha, double s[3]);
 #endif

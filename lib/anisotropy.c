@@ -20,7 +20,8 @@
  *   the centre, so flat and gently curved surfaces stay put while particles
  *   standing out of them (lattice corners, ridges, tips) are pulled in.
  *   Droplets and small clusters (few particles within the support) do not
- *   move: a sheet nearby would pull them in (aniso_shape.c, alpha).
+ *   move, and single particles and pairs keep the sphere: a sheet nearby
+ *   would pull them in and shape them (aniso_shape.c).
  * - axes from the covariance's eigenvalues (as the paper), held back where
  *   flattening opens air pockets, thins a sheet or shapes a droplet by its
  *   neighbours (aniso_shape.c), scaled to a geometric mean of k_s instead of
@@ -55,14 +56,14 @@ static void an_kernel(const jm_config *c, const float xi[3], const jm_an_acc *a,
                       const double *val, const double *vec, float V, float out[JM_AN_STRIDE])
 {
     double s[3], R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    const double alpha = jm_an_alpha(a->near - 1.0);
+    const double mw = jm_an_move_weight(a->near - 1.0);
     double ml = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
     double drift = a->w > 0.0 ? JM_AN_DRIFT * c->an_radius * (a->w - 1.0) / a->w : 0.0;
-    double move = ml > drift ? alpha * c->an_lambda * (ml - drift) / ml : 0.0;
+    double move = ml > drift ? mw * c->an_lambda * (ml - drift) / ml : 0.0;
     for (int k = 0; k < 3; k++) out[k] = (float)(xi[k] + move * mean[k]);
     s[0] = s[1] = s[2] = c->an_kn;
     if (val && val[0] > 0.0) {
-        jm_an_axes(c, val, alpha, s);
+        jm_an_axes(c, val, jm_an_shape_weight(a->near - 1.0), s);
         memcpy(R, vec, sizeof R);
     }
     /* M = R diag(1 / (h s_k)^2) R^T; box half-side along axis a:

@@ -1,4 +1,6 @@
 /* shells.c - meshes a frame (or a generated sheet) isotropic and anisotropic and prints its shells: nesting, volumes, normals. */
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +9,55 @@
 #include "../../lib/jetmesh.h"
 #include "../util/meshcheck.h"
 #include "../util/sheets.h"
+
+typedef struct {
+    uint64_t key;
+    uint32_t tri;
+} half_edge;
+static int cmp_he(const void *a, const void *b)
+{
+    const half_edge *x = a, *y = b;
+    return x->key < y->key ? -1 : x->key > y->key;
+}
+static void face_normal(const jm_mesh *m, size_t t, double n[3])
+{
+    const uint32_t *i = m->indices + 3 * t;
+    const float *a = m->positions + 3 * i[0], *b = m->positions + 3 * i[1], *c = m->positions + 3 * i[2];
+    double u[3], w[3];
+    for (int k = 0; k < 3; k++) u[k] = (double)b[k] - a[k], w[k] = (double)c[k] - a[k];
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (int k = 0; k < 3; k++) n[k] = l > 0 ? n[k] / l : 0;
+}
+/* the mean angle between the normals of triangles sharing an edge, degrees */
+static double mean_dihedral(const jm_mesh *m)
+{
+    size_t nt = m->triangle_count, nh = 3 * nt, pairs = 0;
+    half_edge *h = malloc((nh ? nh : 1) * sizeof *h);
+    if (!h) return NAN;
+    for (size_t t = 0; t < nt; t++)
+        for (int e = 0; e < 3; e++) {
+            uint32_t a = m->indices[3 * t + e], b = m->indices[3 * t + (e + 1) % 3];
+            h[3 * t + e].key = a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+            h[3 * t + e].tri = (uint32_t)t;
+        }
+    qsort(h, nh, sizeof *h, cmp_he);
+    double sum = 0;
+    for (size_t k = 0; k + 1 < nh; k++)
+        if (h[k].key == h[k + 1].key) {
+            double n1[3], n2[3];
+            face_normal(m, h[k].tri, n1);
+            face_normal(m, h[k + 1].tri, n2);
+            double c = n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2];
+            sum += acos(c > 1 ? 1 : (c < -1 ? -1 : c));
+            pairs++;
+            k++;
+        }
+    free(h);
+    return pairs ? sum / pairs * 180 / M_PI : 0;
+}
 
 static void usage(void)
 {
@@ -87,9 +138,9 @@ int main(int argc, char **argv)
         mc_shell *list;
         mc_shell_check(&m, &s, &list);
         if (!an) v0 = s.volume;
-        printf("%s %-5s tris %7zu shells %4zu inner %zu (area %.0f r^2, vol %.1f r^3) negative %zu volume %.1f r^3"
+        printf("%s %-5s dihedral %.2f deg tris %7zu shells %4zu inner %zu (area %.0f r^2, vol %.1f r^3) negative %zu volume %.1f r^3"
                "%s corners away %.2f %%%s\n",
-               argv[1], an ? "aniso" : "iso", m.triangle_count, s.components, s.inner, s.inner_area / (r * r),
+               argv[1], an ? "aniso" : "iso", mean_dihedral(&m), m.triangle_count, s.components, s.inner, s.inner_area / (r * r),
                s.inner_volume / (r * r * r), s.negative, s.volume / (r * r * r), "", 100.0 * s.corners_away / (double)(s.corners ? s.corners : 1),
                ok ? "" : " NOT CLOSED");
         if (an && !only) printf("    volume aniso/iso %.3f\n", s.volume / v0);
