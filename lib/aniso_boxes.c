@@ -57,7 +57,6 @@
 #include <pthread.h>
 #include <stddef.h>
 #include <string.h>
-#include <stdlib.h>
 
 #ifndef JM_AN_CULL_BREAK
 #define JM_AN_CULL_BREAK 0
