@@ -45,7 +45,10 @@
  *       within 8.8 kappa u of d_f^T M_f d_f relatively: q2 >= d^T M d (1 -
  *       12.7 kappa u), and q >= (2 delta_a / a[10 + a]) (1 - 7.4 kappa u)
  *       >= (2 delta_a / a[10 + a]) (1 - 20 k_r^2 u), since s_max / s_min <=
- *       k_r (jm_an_finish clamps the axes) makes kappa <= k_r^2. So q >= ql
+ *       k_r makes kappa <= k_r^2 (jm_an_axes clamps the ratios of the
+ *       eigenvalues it keeps at k_r; its floor on the short axes and its
+ *       blend toward the sphere, powers alpha <= 1 of the axes, only lower
+ *       the ratio; few neighbours: a sphere). So q >= ql
  *       = the larger of gmin dmin and the largest of these axis bounds.
  *    b. An upper bound of each term. With A = fl(2 - q) = (2 - q)(1 + d0)
  *       and two roundings per cube, 0.25 A^3 is within gamma_5 of 0.25

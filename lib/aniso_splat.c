@@ -110,23 +110,28 @@ typedef void (*an_row_fn)(AN_ROW_ARGS);
 #define AN_SAMPLE_ARGS                                                                                       \
     const jm_grid *g, const jm_config *c, const jm_an_cand *cand, const float *x, const float *y, const float *z, \
         int n, const uint8_t *span, float *pad
-enum { AN_FULL, AN_SPAN, AN_PART };
 
 /* The rows of one slab: for r < nr (row jj = j0 + r, dy = y[jj] - cy) the
- * row's B and C (q^2 = m00 dx^2 + 2 B dx + C along it) and the nodes
- * [ia[r], ib[r]) to splat: the chord where q^2 < lim (4, or the inner
- * ellipsoid's 4 rho^2 for the partial sums), from the spacing, with slack
- * nodes of slack each side (0.01 for the full chord: its ends are good to
- * about 1e-5 nodes unless the row barely touches the ellipsoid, where w is
- * under 1e-12 anyway; 0 for the inner one), clipped to [0, n); ia = ib = 0
- * where the row misses. A branch-free loop the compiler vectorizes; each
- * lane does the operations of one row alone, so the same bits as row by
- * row. */
+ * row's B and C (q^2 = m00 dx^2 + 2 B dx + C along it) and the run of nodes
+ * [ia[r], ib[r]) to splat (empty where there is none). The chord where q^2 < lim (4, or the inner ellipsoid's 4 rho^2
+ * for the partial sums) comes from the spacing, with slack nodes of slack
+ * each side (0.01 for the full chord: its ends are good to about 1e-5 nodes
+ * unless the row barely touches the ellipsoid, where w is under 1e-12
+ * anyway; 0 for the inner one), clipped to [0, n). AN_FULL and AN_SPAN
+ * round the run up to whole steps of 8 from the chord's start; AN_SPAN then
+ * keeps the part over the row's span (spr: 2 bytes a row from row j0), in
+ * whole steps of 8 from there (so the run's lanes over a span are computed
+ * as in AN_FULL, and none past the run is). A branch-free loop the compiler
+ * vectorizes; each lane does the operations of one row alone, so the same
+ * bits as row by row. */
 typedef struct an_slab {
     float cy, m00, m01, m11, Bz, Cy, Cz, lim, ccx, sc, slack;
 } an_slab;
-INLINE void an_rows(const an_slab *s, const float *restrict y, int j0, int nr, int n, float *restrict Bv,
-                    float *restrict Cv, int *restrict ia, int *restrict ib)
+enum { AN_FULL, AN_SPAN, AN_PART };
+#define AN_ROWS_ARGS                                                                                          \
+    const an_slab *s, const float *restrict y, int j0, int nr, int n, const int mode, const uint8_t *spr,     \
+        float *restrict Bv, float *restrict Cv, int *restrict ia, int *restrict ib
+INLINE void an_rows(AN_ROWS_ARGS)
 {
     for (int r = 0; r < nr; r++) {
         const float dy = y[j0 + r] - s->cy;
@@ -139,29 +144,38 @@ INLINE void an_rows(const an_slab *s, const float *restrict y, int j0, int nr, i
         int i0 = iceil(lo), i1 = ifloor(hi) + 1;
         i0 = i0 > 0 ? i0 : 0;
         i1 = i1 < n ? i1 : n;
+        int keep = i0 < i1, e = i1;
+        if (mode != AN_PART) e = i0 + ((i1 - i0 + 7) & ~7);
+        if (mode == AN_SPAN) {
+            const int a = i0 > spr[2 * r] ? i0 : spr[2 * r], b = e < spr[2 * r + 1] ? e : spr[2 * r + 1];
+            keep = keep && a < b;
+            i0 += (a - i0) & ~7;
+            e = i0 + ((b - i0 + 7) & ~7);
+        }
         Bv[r] = B;
         Cv[r] = C;
         ia[r] = i0;
-        ib[r] = i1;
+        ib[r] = keep ? e : i0;
     }
 }
 
-typedef void (*an_rows_fn)(const an_slab *s, const float *restrict yp, int j0, int nr, int n, float *restrict Bv,
-                           float *restrict Cv, int *restrict ia, int *restrict ib);
+typedef void (*an_rows_fn)(AN_ROWS_ARGS);
 
 #ifdef AN_SIMD
 /* an_rows on 8 rows at a time, in AVX2 (the compiler leaves the loop above
- * scalar there): the same operations on each lane; yp holds y continued
- * past n (the rows past nr are computed and ignored) */
-__attribute__((target("avx2"))) INLINE void an_rows_avx2(const an_slab *s, const float *restrict yp, int j0, int nr,
-                                                        int n, float *restrict Bv, float *restrict Cv,
-                                                        int *restrict ia, int *restrict ib)
+ * scalar there): the same operations on each lane, integers included
+ * (round8.h); yp holds y continued past n and spr 16 bytes past its last
+ * row (JM_CULL_SPAN_BYTES): the rows past nr are computed and ignored */
+__attribute__((target("avx2"))) INLINE void an_rows_avx2(AN_ROWS_ARGS)
 {
+    const float *yp = y;
     const __m256 cy = _mm256_set1_ps(s->cy), m00 = _mm256_set1_ps(s->m00), m01 = _mm256_set1_ps(s->m01);
     const __m256 m11 = _mm256_set1_ps(s->m11), Bz = _mm256_set1_ps(s->Bz), Cy = _mm256_set1_ps(s->Cy);
     const __m256 Cz = _mm256_set1_ps(s->Cz), lim = _mm256_set1_ps(s->lim), ccx = _mm256_set1_ps(s->ccx);
     const __m256 sc = _mm256_set1_ps(s->sc), slack = _mm256_set1_ps(s->slack), zero = _mm256_setzero_ps();
     const __m256i vn = _mm256_set1_epi32(n), izero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+    const __m256i seven = _mm256_set1_epi32(7), not7 = _mm256_set1_epi32(~7);
+    const __m128i split = _mm_setr_epi8(0, 2, 4, 6, 8, 10, 12, 14, 1, 3, 5, 7, 9, 11, 13, 15);
     for (int r = 0; r < nr; r += 8) {
         const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(yp + j0 + r), cy);
         const __m256 B = _mm256_add_ps(_mm256_mul_ps(m01, dy), Bz);
@@ -177,10 +191,23 @@ __attribute__((target("avx2"))) INLINE void an_rows_avx2(const an_slab *s, const
         __m256i i0 = jm_iceil8(lo), i1 = jm_ifloor8(hi);
         i0 = _mm256_max_epi32(i0, izero);
         i1 = _mm256_min_epi32(_mm256_add_epi32(i1, one), vn);
+        __m256i e = i1;
+        if (mode != AN_PART)
+            e = _mm256_add_epi32(i0, _mm256_and_si256(_mm256_add_epi32(_mm256_sub_epi32(i1, i0), seven), not7));
+        if (mode == AN_SPAN) {
+            const __m128i pr = _mm_shuffle_epi8(_mm_loadu_si128((const __m128i *)(spr + 2 * (size_t)r)), split);
+            const __m256i s0 = _mm256_cvtepu8_epi32(pr), s1 = _mm256_cvtepu8_epi32(_mm_srli_si128(pr, 8));
+            const __m256i a = _mm256_max_epi32(i0, s0), b = _mm256_min_epi32(e, s1);
+            const __m256i keep = _mm256_and_si256(_mm256_cmpgt_epi32(i1, i0), _mm256_cmpgt_epi32(b, a));
+            i0 = _mm256_add_epi32(i0, _mm256_and_si256(_mm256_sub_epi32(a, i0), not7));
+            e = _mm256_add_epi32(i0, _mm256_and_si256(_mm256_add_epi32(_mm256_sub_epi32(b, i0), seven), not7));
+            e = _mm256_blendv_epi8(i0, e, keep);
+        }
         _mm256_storeu_ps(Bv + r, B);
         _mm256_storeu_ps(Cv + r, C);
         _mm256_storeu_si256((__m256i *)(ia + r), i0);
-        _mm256_storeu_si256((__m256i *)(ib + r), i1);
+        /* no chord: i1 <= i0 gives e <= i0 in every mode, an empty run */
+        _mm256_storeu_si256((__m256i *)(ib + r), e);
     }
 }
 #endif
@@ -265,23 +292,12 @@ INLINE void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn, const int mode, an_rows_
             sl.Bz = m02 * dz;
             sl.Cy = 2.0f * m12 * dz;
             sl.Cz = m22 * dz * dz;
-            rows_fn(&sl, yp, j0, j1 - j0, n, Bv, Cv, ia, ib);
+            rows_fn(&sl, yp, j0, j1 - j0, n, mode, mode == AN_SPAN ? span + 2 * ((size_t)kk * n + j0) : NULL, Bv,
+                    Cv, ia, ib);
             float *slab = pad + (size_t)kk * n * ns;
-            for (int r = 0; r < j1 - j0; r++) {
-                int i0 = ia[r], e = ib[r];
-                if (i0 >= e) continue;
-                if (mode != AN_PART) e = i0 + ((e - i0 + 7) & ~7);
-                if (mode == AN_SPAN) {
-                    /* the part of the run [i0, e) over the span, in whole
-                     * steps of 8 from i0 */
-                    const uint8_t *sp = span + 2 * ((size_t)kk * n + j0 + r);
-                    const int lo = i0 > sp[0] ? i0 : sp[0], hi = e < sp[1] ? e : sp[1];
-                    if (lo >= hi) continue;
-                    i0 += (lo - i0) & ~7;
-                    e = i0 + ((hi - i0 + 7) & ~7);
-                }
-                row_fn(slab + (size_t)(j0 + r) * ns, xp, i0, e, cx, m00, 2.0f * Bv[r], Cv[r], amp);
-            }
+            for (int r = 0; r < j1 - j0; r++)
+                if (ia[r] < ib[r])
+                    row_fn(slab + (size_t)(j0 + r) * ns, xp, ia[r], ib[r], cx, m00, 2.0f * Bv[r], Cv[r], amp);
         }
     }
 }

@@ -10,7 +10,7 @@
 #define AN(g, i) (&(g)->an[JM_AN_STRIDE * (size_t)(i)])
 
 /* Yu & Turk, "Reconstructing surfaces of particle-based fluids using
- * anisotropic kernels", ACM TOG 32(1), 2013, section 3, with three changes
+ * anisotropic kernels", ACM TOG 32(1), 2013, section 3, with these changes
  * (see jetmesh.h, "Anisotropic kernels"):
  * - centres: the paper's x + lambda (mean - x) pulls every particle of a flat
  *   free surface inward by lambda times the drift of a half-ball's weighted
@@ -19,12 +19,16 @@
  *   by about a particle radius. Only the part of the offset beyond b moves
  *   the centre, so flat and gently curved surfaces stay put while particles
  *   standing out of them (lattice corners, ridges, tips) are pulled in.
- * - axes proportional to the covariance's eigenvalues (as the paper), the
- *   smaller ones clamped to at least 1/k_r of the largest, then scaled to a
- *   geometric mean of k_s instead of by the paper's absolute k_s (a constant
- *   tuned to one particle spacing): every kernel covers the volume of the
- *   isotropic one times k_s^3, bulk kernels keep the isotropic size whatever
- *   the spacing, and the longest axis is at most k_s k_r^(2/3) h.
+ *   Droplets and small clusters (few particles within the support) do not
+ *   move, and single particles and pairs keep the sphere: a sheet nearby
+ *   would pull them in and shape them (aniso_shape.c).
+ * - axes from the covariance's eigenvalues (as the paper), held back where
+ *   flattening opens air pockets, thins a sheet or shapes a droplet by its
+ *   neighbours (aniso_shape.c), scaled to a geometric mean of k_s instead of
+ *   by the paper's absolute k_s (a constant tuned to one particle spacing):
+ *   every kernel covers the volume of the isotropic one times k_s^3, bulk
+ *   kernels keep the isotropic size whatever the spacing, and the longest
+ *   axis is at most k_s k_r^(2/3) h.
  * - fewer than N_eps neighbours: the isotropic kernel scaled by k_n.
  * amp = V h^3 det G keeps each kernel's integral that of the isotropic one. */
 #define JM_AN_DRIFT 0.27
@@ -52,16 +56,14 @@ static void an_kernel(const jm_config *c, const float xi[3], const jm_an_acc *a,
                       const double *val, const double *vec, float V, float out[JM_AN_STRIDE])
 {
     double s[3], R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const double mw = jm_an_move_weight(a->near - 1.0);
     double ml = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
     double drift = a->w > 0.0 ? JM_AN_DRIFT * c->an_radius * (a->w - 1.0) / a->w : 0.0;
-    double move = ml > drift ? c->an_lambda * (ml - drift) / ml : 0.0;
+    double move = ml > drift ? mw * c->an_lambda * (ml - drift) / ml : 0.0;
     for (int k = 0; k < 3; k++) out[k] = (float)(xi[k] + move * mean[k]);
     s[0] = s[1] = s[2] = c->an_kn;
     if (val && val[0] > 0.0) {
-        double sv[3];
-        for (int k = 0; k < 3; k++) sv[k] = val[k] > val[0] / c->an_kr ? val[k] : val[0] / c->an_kr;
-        double gm = cbrt(sv[0] * sv[1] * sv[2]);
-        for (int k = 0; k < 3; k++) s[k] = c->an_ks * sv[k] / gm;
+        jm_an_axes(c, val, jm_an_shape_weight(a->near - 1.0), s);
         memcpy(R, vec, sizeof R);
     }
     /* M = R diag(1 / (h s_k)^2) R^T; box half-side along axis a:
@@ -116,9 +118,9 @@ static void copy_run(const an_job *job, float *xs, float *ys, float *zs, size_t 
 }
 
 /* The neighbourhoods of the particles of cell ci: the candidates of the
- * cells around are copied once into structure-of-arrays form (padded to 8
- * with far-away points), then the particles sum over them (aniso_moments.h),
- * two at a time. */
+ * cells around are copied once into structure-of-arrays form (those in
+ * reach, padded to 8 with far-away points), then the particles sum over
+ * them (aniso_moments.h), two at a time. */
 static void an_cell(void *arg, size_t ci, int worker)
 {
     an_job *job = arg;
@@ -158,7 +160,16 @@ static void an_cell(void *arg, size_t ci, int worker)
                     }
                     t += k;
                 }
-        if (pass == 1) copy_run(job, xs, ys, zs, run_to, run_from, run_n);
+        if (pass == 1) {
+            copy_run(job, xs, ys, zs, run_to, run_from, run_n);
+            float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (uint32_t i = g->cell_start[ci]; i < g->cell_start[ci + 1]; i++)
+                for (int a = 0; a < 3; a++) {
+                    lo[a] = fminf(lo[a], GP(g, i)[a]);
+                    hi[a] = fmaxf(hi[a], GP(g, i)[a]);
+                }
+            t = m = jm_an_keep_in_reach(xs, ys, zs, m, lo, hi, c->an_radius * c->an_radius);
+        }
         if (pass == 0) {
             m = t;
             size_t cap = (m + 7) & ~(size_t)7;
@@ -175,7 +186,8 @@ static void an_cell(void *arg, size_t ci, int worker)
     }
     const size_t cap = job->soa_cap[worker], groups = (m + 7) / 8;
     const float *xs = job->soa[worker], *ys = xs + cap, *zs = ys + cap;
-    const float R2 = c->an_radius * c->an_radius, invR = 1.0f / c->an_radius;
+    jm_an_radii rad = {c->an_radius * c->an_radius, 1.0f / c->an_radius, 0.0f, 0.0f};
+    jm_an_near_radius(c, &rad.S2, &rad.invB);
     /* the particles not isolated, up to 8 at a time: their moments two at a
      * time, then the eigen-decompositions of their covariances together */
     uint32_t batch[8];
@@ -186,6 +198,7 @@ static void an_cell(void *arg, size_t ci, int worker)
             jm_an_acc a;
             memset(&a, 0, sizeof a);
             a.w = 1.0; /* alone: the isotropic kernel where it is */
+            a.near = 1.0;
             jm_an_finish(c, GP(g, i), &a, g->weight[i], AN(g, i));
             continue;
         }
@@ -193,8 +206,8 @@ static void an_cell(void *arg, size_t ci, int worker)
         if (nb < 8 && !last) continue;
         double sum[8][JM_AN_MOMENTS];
         for (int k = 0; k + 1 < nb; k += 2)
-            jm_an_moments2(xs, ys, zs, groups, GP(g, batch[k]), GP(g, batch[k + 1]), R2, invR, sum[k], sum[k + 1]);
-        if (nb & 1) jm_an_moments(xs, ys, zs, groups, GP(g, batch[nb - 1]), R2, invR, sum[nb - 1]);
+            jm_an_moments2(xs, ys, zs, groups, GP(g, batch[k]), GP(g, batch[k + 1]), &rad, sum[k], sum[k + 1]);
+        if (nb & 1) jm_an_moments(xs, ys, zs, groups, GP(g, batch[nb - 1]), &rad, sum[nb - 1]);
         jm_an_acc acc[8];
         double mean[8][3], C[8][6], val[8][3], vec[8][9];
         int with[8], ne = 0;
@@ -203,6 +216,7 @@ static void an_cell(void *arg, size_t ci, int worker)
             for (int e = 0; e < 3; e++) acc[k].s[e] = sum[k][1 + e];
             for (int e = 0; e < 6; e++) acc[k].ss[e] = sum[k][4 + e];
             acc[k].count = (int)sum[k][10];
+            acc[k].near = sum[k][11];
             with[k] = an_cov(c, &acc[k], mean[k], C[ne]) ? ne++ : -1;
         }
         jm_sym3_eigen_n(ne, (const double(*)[6])C, val, vec);

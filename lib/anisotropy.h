@@ -1,6 +1,7 @@
 /* anisotropy.h - Yu-Turk anisotropic SPH kernels: per-particle smoothed centres and kernel matrices, and the kernels each block looks at. */
 #ifndef JETMESH_ANISOTROPY_H
 #define JETMESH_ANISOTROPY_H
+#include "aniso_shape.h"
 #include "field.h"
 
 /* Per sorted particle, JM_AN_STRIDE floats in g->an:
@@ -19,13 +20,16 @@
  * brute-force path of jm_field_eval; the grid sums float lanes). */
 typedef struct jm_an_acc {
     double w, s[3], ss[6];
-    int count; /* neighbours within the radius, itself not counted */
+    int count;   /* neighbours within the radius, itself not counted */
+    double near; /* the near count, itself included (jm_an_near) */
 } jm_an_acc;
 
-static inline void jm_an_add(jm_an_acc *a, const float xi[3], const float xj[3], float radius)
+static inline void jm_an_add(jm_an_acc *a, const float xi[3], const float xj[3], float radius, float S2, float invB)
 {
     double d[3] = {(double)xj[0] - xi[0], (double)xj[1] - xi[1], (double)xj[2] - xi[2]};
     double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], R = radius;
+    const float f[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+    a->near += jm_an_near(f[0] * f[0] + f[1] * f[1] + f[2] * f[2], S2, invB);
     if (!(l2 < R * R)) return;
     double l = sqrt(l2) / R, w = 1.0 - l * l * l;
     a->w += w;

@@ -1,5 +1,6 @@
 /* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
 #include "block.h"
+#include "aniso_boxes.h"
 #include "aniso_cull.h"
 #include "aniso_normals.h"
 #include "aniso_splat.h"
@@ -20,11 +21,18 @@
  * vertices meet at a lattice node (no zero-area triangles). */
 #define JM_T_MIN 0.01f
 
+/* the box passes' work buffer: the isotropic one's or the anisotropic's */
+static size_t box_bytes(void)
+{
+    const size_t a = jm_box_work_bytes(), b = jm_aniso_box_work_bytes();
+    return a > b ? a : b;
+}
+
 size_t jm_scratch_bytes(int B)
 {
     size_t n = (size_t)B + 1, nn = n * n * n;
     return nn * (sizeof(float) + 1 + 15 * sizeof(uint32_t)) + JM_IN_SLACK + n * n * (1 + JM_PAD(n) * sizeof(float)) + 3 * n * sizeof(float) +
-           n * n * JM_PAD(n) * sizeof(float) + JM_CULL_SPAN_BYTES(n) + jm_box_work_bytes();
+           n * n * JM_PAD(n) * sizeof(float) + JM_CULL_SPAN_BYTES(n) + box_bytes();
 }
 
 int jm_scratch_init(jm_scratch *s, int B)
@@ -42,7 +50,7 @@ int jm_scratch_init(jm_scratch *s, int B)
     s->x = malloc(3 * n * sizeof(float));
     s->part = malloc(n * n * JM_PAD(n) * sizeof *s->part);
     s->span = malloc(JM_CULL_SPAN_BYTES(n));
-    s->boxes = malloc(jm_box_work_bytes());
+    s->boxes = malloc(box_bytes());
     if (!s->f || !s->in || !s->win || !s->pad || !s->rowstate || !s->vt || !s->touched || !s->x || !s->part || !s->span || !s->boxes) {
         jm_scratch_free(s);
         return 0;
@@ -354,12 +362,14 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     size_t fs;
     const float *fv;
     const uint8_t *span = NULL;
-    if (c->cull && jm_sph_block_full(c, inner, lo, hi)) {
+    const int an_boxes = c->aniso && c->cull && jm_aniso_boxes_apply(c, inner, lo, hi);
+    if (c->cull && (an_boxes || jm_sph_block_full(c, inner, lo, hi))) {
         /* the SPH field, a block a third full of fluid or more: partial
-         * sums prove nodes inside; only the nodes next to the others are
-         * sampled (cull.c, aniso_cull.c) */
+         * sums or boxes prove nodes inside; only the nodes next to the
+         * others are sampled (cull.c, aniso_cull.c, aniso_boxes.c) */
         float proof = c->threshold;
-        if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
+        if (an_boxes) proof = jm_aniso_boxes(g, c, &s->an_cand, s->x, s->y, s->z, n, s->boxes, s->part);
+        else if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
         else if (jm_sph_boxes_apply(c, inner, lo, hi)) { /* JM_BOX_FILL full, fine lattice */
             proof = jm_sph_box_threshold(c, &s->hood);
             jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->boxes, s->part);

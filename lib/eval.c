@@ -40,6 +40,8 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
         float *an = malloc((n ? n : 1) * JM_AN_STRIDE * sizeof *an);
         if (!an) return JM_E_OUT_OF_MEMORY;
         const double inv = 1.0 / c.sph_h;
+        float S2, invB;
+        jm_an_near_radius(&c, &S2, &invB);
         for (size_t j = 0; j < n; j++) {
             float pj[3];
             load(ps, j, unit_in, pj);
@@ -52,7 +54,7 @@ jm_status jm_field_eval(const jm_params *params, const jm_particles *ps, const f
                 double d = sqrt((double)(pk[0] - pj[0]) * (pk[0] - pj[0]) + (double)(pk[1] - pj[1]) * (pk[1] - pj[1]) +
                                 (double)(pk[2] - pj[2]) * (pk[2] - pj[2]));
                 if (d < c.support) sum += jm_cubic_w((float)(d * inv));
-                jm_an_add(&acc, pj, pk, c.an_radius);
+                jm_an_add(&acc, pj, pk, c.an_radius, S2, invB);
             }
             jm_an_finish(&c, pj, &acc, (float)(1.0 / sum), an + JM_AN_STRIDE * j);
         }

@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_aniso_cull_broken.sh - test_aniso_cull fails when the anisotropic culling is deliberately broken (a block bound too low, partial sums too high).
+# t_aniso_cull_broken.sh - test_aniso_cull fails when the anisotropic culling is deliberately broken (a block bound too low, partial sums or box bounds too high).
 set -u
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 B=${JETMESH_BUILD:-$root/build}
@@ -13,13 +13,13 @@ flags="-std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -fno-math-errno 
 # break 1 (the block bound) only shows on the real frames of ../shared/data:
 # without them test_aniso_cull skips those, so only break 2 can be checked
 SHARED=${JETMESH_SHARED:-$root/../shared}
-breaks="1 2"
+breaks="1 2 3"
 if [ ! -f "$SHARED/data/splashsurf/bunny_frame_14_7705_particles.vtk" ]; then
   echo "break 1: not checked: $SHARED/data not found (its real frames show it)"
-  breaks=2
+  breaks="2 3"
 fi
 for brk in $breaks; do
-  src=lib/aniso_cull.c; [ "$brk" = 2 ] && src=lib/aniso_splat.c
+  src=lib/aniso_cull.c; [ "$brk" = 2 ] && src=lib/aniso_splat.c; [ "$brk" = 3 ] && src=lib/aniso_boxes.c
   $CC $flags -DJM_AN_CULL_BREAK=$brk -c "$src" -o "$tmp/broken$brk.o" || { echo "FAIL: compiling $src"; exit 1; }
   $CC -o "$tmp/t$brk" "$B/tests/test_aniso_cull.o" "$B"/tests/util/*.o "$tmp/broken$brk.o" "$B/libjetmesh_formats.a" \
       "$B/libjetmesh.a" -lcmocka -ltinygltf -ldraco -lz -lmeshoptimizer -lstdc++ -lm -pthread || { echo "FAIL: linking"; exit 1; }

@@ -79,7 +79,10 @@ static void test_moments_pair_bits(void **state)
     enum { CAP = 8 * 60 };
     static float xs[CAP], ys[CAP], zs[CAP];
     unsigned s = 11;
-    const float Rn = 0.2f, R2 = Rn * Rn, invR = 1.0f / Rn;
+    const float Rn = 0.2f;
+    /* the near count's radius half r_n, its band as jm_an_near_radius's */
+    const jm_an_radii rad = {Rn * Rn, 1.0f / Rn, 0.25f * Rn * Rn, 1.0f / (0.25f * Rn * Rn * 0.4375f)};
+    int banded = 0;
     for (int round = 0; round < 200; round++) {
         const size_t m = 1 + (size_t)(frand(&s) * (CAP - 8)), groups = (m + 7) / 8;
         const float p[3] = {frand(&s) * 0.1f, frand(&s) * 0.1f, frand(&s) * 0.1f};
@@ -90,17 +93,20 @@ static void test_moments_pair_bits(void **state)
             zs[t] = p[2] + 0.5f * (2 * frand(&s) - 1);
             if (t % 13 == 0) xs[t] = p[0], ys[t] = p[1], zs[t] = p[2];
             if (t % 17 == 0) xs[t] = p[0] + Rn, ys[t] = p[1], zs[t] = p[2];
+            if (t % 23 == 0) xs[t] = p[0] + 0.5f * Rn, ys[t] = p[1], zs[t] = p[2]; /* the near radius */
             if (t % 19 == 0) xs[t] = q[0], ys[t] = q[1], zs[t] = q[2];
         }
         for (size_t t = m; t < 8 * groups; t++) xs[t] = ys[t] = zs[t] = 1e30f;
         double a2[JM_AN_MOMENTS], b2[JM_AN_MOMENTS], a1[JM_AN_MOMENTS], b1[JM_AN_MOMENTS];
-        jm_an_moments2(xs, ys, zs, groups, p, q, R2, invR, a2, b2);
-        jm_an_moments(xs, ys, zs, groups, p, R2, invR, a1);
-        jm_an_moments(xs, ys, zs, groups, q, R2, invR, b1);
+        jm_an_moments2(xs, ys, zs, groups, p, q, &rad, a2, b2);
+        jm_an_moments(xs, ys, zs, groups, p, &rad, a1);
+        jm_an_moments(xs, ys, zs, groups, q, &rad, b1);
         if (memcmp(a1, a2, sizeof a1) || memcmp(b1, b2, sizeof b1))
             fail_msg("round %d (%zu points): the pair differs from one at a time", round, m);
         if (!(a1[0] > 0.0)) fail_msg("round %d: no weight at all (the test would prove nothing)", round);
+        banded += a1[11] != floor(a1[11]); /* a neighbour in the near count's band */
     }
+    if (banded < 100) fail_msg("only %d rounds had a neighbour in the near band", banded);
 }
 
 /* Random kernels (positive definite M, amplitudes), padded as

@@ -189,3 +189,167 @@ size_t mc_cavities(const jm_mesh *m, size_t *out_components)
     if (out_components) *out_components = comps;
     return cavities;
 }
+
+/* Crossings of the ray from o along d (d = (1, e1, e2), tilted off every
+ * axis so that it misses edges and vertices of lattice meshes) with the
+ * triangle a b c (Moller-Trumbore, in double). */
+static int ray_hits(const double o[3], const double d[3], const float *a, const float *b, const float *c)
+{
+    double e1[3], e2[3], p[3], t[3], q[3];
+    for (int k = 0; k < 3; k++) {
+        e1[k] = (double)b[k] - a[k];
+        e2[k] = (double)c[k] - a[k];
+        t[k] = o[k] - a[k];
+    }
+    p[0] = d[1] * e2[2] - d[2] * e2[1];
+    p[1] = d[2] * e2[0] - d[0] * e2[2];
+    p[2] = d[0] * e2[1] - d[1] * e2[0];
+    double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0) return 0;
+    double u = (t[0] * p[0] + t[1] * p[1] + t[2] * p[2]) / det;
+    if (u < 0 || u > 1) return 0;
+    q[0] = t[1] * e1[2] - t[2] * e1[1];
+    q[1] = t[2] * e1[0] - t[0] * e1[2];
+    q[2] = t[0] * e1[1] - t[1] * e1[0];
+    double v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) / det;
+    if (v < 0 || u + v > 1) return 0;
+    return (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) / det > 0;
+}
+
+int mc_shell_check(const jm_mesh *m, mc_shells *out, mc_shell **list)
+{
+    memset(out, 0, sizeof *out);
+    if (list) *list = NULL;
+    size_t nv = m->vertex_count, nt = m->triangle_count;
+    size_t *parent = malloc((nv ? nv : 1) * sizeof *parent), *comp = malloc((nv ? nv : 1) * sizeof *comp);
+    size_t *tc = malloc((nt ? nt : 1) * sizeof *tc);
+    /* per shell: volume, area, box (6), a vertex */
+    double *sh = calloc(9 * (nv ? nv : 1), sizeof *sh);
+    size_t *rep = malloc((nv ? nv : 1) * sizeof *rep);
+    if (!parent || !comp || !tc || !sh || !rep) {
+        free(parent), free(comp), free(tc), free(sh), free(rep);
+        return 0;
+    }
+    for (size_t v = 0; v < nv; v++) parent[v] = v, comp[v] = SIZE_MAX;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *i = m->indices + 3 * t;
+        parent[find_root(parent, i[0])] = find_root(parent, i[1]);
+        parent[find_root(parent, i[1])] = find_root(parent, i[2]);
+    }
+    size_t ns = 0;
+    for (size_t t = 0; t < nt; t++) {
+        size_t r = find_root(parent, m->indices[3 * t]);
+        if (comp[r] == SIZE_MAX) {
+            comp[r] = ns;
+            rep[ns] = m->indices[3 * t];
+            double *s = sh + 9 * ns;
+            for (int k = 0; k < 3; k++) s[2 + k] = INFINITY, s[5 + k] = -INFINITY;
+            ns++;
+        }
+        tc[t] = comp[r];
+    }
+    out->components = ns;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *i = m->indices + 3 * t;
+        const float *a = m->positions + 3 * i[0], *b = m->positions + 3 * i[1], *c = m->positions + 3 * i[2];
+        double u[3], w[3], n[3];
+        for (int k = 0; k < 3; k++) u[k] = (double)b[k] - a[k], w[k] = (double)c[k] - a[k];
+        n[0] = u[1] * w[2] - u[2] * w[1];
+        n[1] = u[2] * w[0] - u[0] * w[2];
+        n[2] = u[0] * w[1] - u[1] * w[0];
+        double *s = sh + 9 * tc[t];
+        s[0] += ((double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) -
+                 (double)a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
+                 (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0])) / 6.0;
+        s[1] += 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++) {
+                const float x = m->positions[3 * i[j] + k];
+                if (x < s[2 + k]) s[2 + k] = x;
+                if (x > s[5 + k]) s[5 + k] = x;
+            }
+        if (m->normals)
+            for (int j = 0; j < 3; j++) {
+                const float *nr = m->normals + 3 * i[j];
+                out->corners++;
+                if (!(nr[0] * n[0] + nr[1] * n[1] + nr[2] * n[2] > 0)) out->corners_away++;
+            }
+    }
+    const double d[3] = {1.0, 0.3183098861837907, 0.1414213562373095};
+    mc_shell *L = list ? malloc((ns ? ns : 1) * sizeof *L) : NULL;
+    if (list && !L) {
+        free(parent), free(comp), free(tc), free(sh), free(rep);
+        return 0;
+    }
+    for (size_t s = 0; s < ns; s++) {
+        const double *bs = sh + 9 * s;
+        out->volume += bs[0];
+        if (bs[0] < 0) out->negative++;
+        const float *p = m->positions + 3 * rep[s];
+        const double o[3] = {p[0], p[1], p[2]};
+        int inner = 0;
+        for (size_t e = 0; e < ns && !inner; e++) {
+            const double *be = sh + 9 * e;
+            if (e == s || be[2] > bs[2] || be[3] > bs[3] || be[4] > bs[4] || be[5] < bs[5] || be[6] < bs[6] ||
+                be[7] < bs[7])
+                continue;
+            size_t hits = 0;
+            for (size_t t = 0; t < nt; t++) {
+                if (tc[t] != e) continue;
+                const uint32_t *i = m->indices + 3 * t;
+                hits += (size_t)ray_hits(o, d, m->positions + 3 * i[0], m->positions + 3 * i[1], m->positions + 3 * i[2]);
+            }
+            inner = (int)(hits & 1);
+        }
+        if (L) {
+            L[s].volume = bs[0];
+            L[s].area = bs[1];
+            for (int k = 0; k < 3; k++) L[s].lo[k] = bs[2 + k], L[s].hi[k] = bs[5 + k];
+            L[s].inner = inner;
+        }
+        if (inner) {
+            out->inner++;
+            out->inner_area += bs[1];
+            out->inner_volume += bs[0];
+        }
+    }
+    free(parent), free(comp), free(tc), free(sh), free(rep);
+    if (list) *list = L;
+    return 1;
+}
+
+size_t mc_points_in_shell(const jm_mesh *m, size_t shell, const float *xyz, size_t n)
+{
+    size_t nv = m->vertex_count, nt = m->triangle_count, in = 0;
+    size_t *parent = malloc((nv ? nv : 1) * sizeof *parent), *order = malloc((nv ? nv : 1) * sizeof *order);
+    if (!parent || !order) {
+        free(parent), free(order);
+        return (size_t)-1;
+    }
+    for (size_t v = 0; v < nv; v++) parent[v] = v, order[v] = SIZE_MAX;
+    for (size_t t = 0; t < nt; t++) {
+        const uint32_t *i = m->indices + 3 * t;
+        parent[find_root(parent, i[0])] = find_root(parent, i[1]);
+        parent[find_root(parent, i[1])] = find_root(parent, i[2]);
+    }
+    /* the shells numbered in the order of their first triangles */
+    size_t ns = 0, root = SIZE_MAX;
+    for (size_t t = 0; t < nt && root == SIZE_MAX; t++) {
+        size_t r = find_root(parent, m->indices[3 * t]);
+        if (order[r] == SIZE_MAX) order[r] = ns++;
+        if (order[r] == shell) root = r;
+    }
+    const double d[3] = {1.0, 0.3183098861837907, 0.1414213562373095};
+    for (size_t p = 0; p < n && root != SIZE_MAX; p++) {
+        const double o[3] = {xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]};
+        size_t hits = 0;
+        for (size_t t = 0; t < nt; t++) {
+            const uint32_t *i = m->indices + 3 * t;
+            if (find_root(parent, i[0]) != root) continue;
+            hits += (size_t)ray_hits(o, d, m->positions + 3 * i[0], m->positions + 3 * i[1], m->positions + 3 * i[2]);
+        }
+        in += hits & 1;
+    }
+    free(parent), free(order);
+    return in;
+}

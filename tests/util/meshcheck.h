@@ -28,6 +28,39 @@ int mc_check(const jm_mesh *mesh, mc_report *out);
  * NULL) gets the number of components. (size_t)-1 if out of memory. */
 size_t mc_cavities(const jm_mesh *mesh, size_t *out_components);
 
+/* A mesh's shells (connected components) and how they nest, for air
+ * pockets: a shell inside another (a cavity, or anything in one) is "inner". */
+typedef struct mc_shells {
+    size_t components;
+    size_t inner;          /* shells enclosed by another shell (ray parity) */
+    size_t negative;       /* shells of negative signed volume */
+    double inner_area;     /* total area of the inner shells */
+    double inner_volume;   /* their signed volumes summed */
+    double volume;         /* signed volume of the whole mesh */
+    size_t corners;        /* triangle corners (3 per triangle) */
+    size_t corners_away;   /* corners whose vertex normal makes more than 90
+                              degrees with the triangle's normal */
+} mc_shells;
+
+/* One shell of a mesh. */
+typedef struct mc_shell {
+    double volume, area;
+    double lo[3], hi[3]; /* its box */
+    int inner;
+} mc_shell;
+
+/* Fills *out for mesh (normals may be NULL: corners_away stays 0). A shell
+ * is inner when a ray from one of its vertices crosses another shell an odd
+ * number of times (only shells whose box holds its box are tried). With
+ * list, *list gets the shells (malloc'd, out->components of them, in the
+ * order of their first triangles; free it). 0 if out of memory. */
+int mc_shell_check(const jm_mesh *mesh, mc_shells *out, mc_shell **list);
+
+/* How many of the n points xyz lie inside shell number `shell` (in
+ * mc_shell_check's order) by ray parity: air pockets hold particle centres,
+ * real bubbles none. (size_t)-1 if out of memory. */
+size_t mc_points_in_shell(const jm_mesh *mesh, size_t shell, const float *xyz, size_t n);
+
 /* Deterministic pseudo-random numbers for tests. */
 unsigned mc_rand(unsigned *state);
 float mc_randf(unsigned *state); /* [0, 1) */
