@@ -170,6 +170,9 @@ void options_generate_help(FILE *f)
           "  jet       the 125-particle liquid jet, a sequence of frames 0..99\n"
           "  block N   N particles on a cubic lattice of spacing 2R, jittered\n"
           "  spray N   N isolated droplets at least 8R apart\n"
+          "  ball N    a ball of about N particles: a lattice of spacing 2R, jittered\n"
+          "  droplets N  N groups 24R apart: single particles, pairs, dense clusters,\n"
+          "            lines and drops hanging from a sheet by a thin neck\n"
           "\n"
           "Options:\n"
           "  -o, --output OUTPUT         .csv or .xyz file; with {} or %03d, one per frame\n"
@@ -560,11 +563,13 @@ int options_parse_generate(int argc, char **argv, generate_options *o)
         return rc;
     int nargs = argc - optind;
     if (nargs < 1)
-        return options_usage_error(cmd, "no scene: give jet, block N or spray N");
+        return options_usage_error(cmd, "no scene: give jet, block N, spray N, ball N or droplets N");
     o->scene = argv[optind];
-    int needs_n = strcmp(o->scene, "block") == 0 || strcmp(o->scene, "spray") == 0;
+    int needs_n = strcmp(o->scene, "block") == 0 || strcmp(o->scene, "spray") == 0 ||
+                  strcmp(o->scene, "ball") == 0 || strcmp(o->scene, "droplets") == 0;
     if (!needs_n && strcmp(o->scene, "jet") != 0)
-        return options_usage_error(cmd, "unknown scene '%s': give jet, block N or spray N", o->scene);
+        return options_usage_error(cmd, "unknown scene '%s': give jet, block N, spray N, ball N or droplets N",
+                                   o->scene);
     if (needs_n) {
         long n;
         if (nargs < 2)
