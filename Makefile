@@ -37,8 +37,9 @@ LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/%.o)
 FMT_OBJ   := $(FMT_CSRC:%.c=$(BUILD)/%.o) $(FMT_XSRC:%.cpp=$(BUILD)/%.o)
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TUTIL_OBJ := $(TUTIL_SRC:%.c=$(BUILD)/%.o)
-# the tests' mesh figures (tests/util/meshmetrics.c) measure distances as the bench's flicker figure does
-TUTIL_OBJ += $(BUILD)/cli/bench/mesh_distance.o
+# the tests' mesh figures (tests/util/meshmetrics.c) measure distances as the bench's flicker figure
+# does, and their inputs are jetmesh generate's scenes
+TUTIL_OBJ += $(BUILD)/cli/bench/mesh_distance.o $(BUILD)/cli/scenes.o $(BUILD)/cli/scenes_liquid.o
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/bin/%)
 TOOL_BIN  := $(TOOL_SRC:tests/tools/%.c=$(BUILD)/tools/%)
 
