@@ -43,7 +43,7 @@ static void bench_help(FILE *f)
         "      --smoothing-length L    sph kernel length h relative to R (default 2)\n"
         "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
         "      --link-distance L       metasphere link distance relative to R (default pi)\n"
-        "      --smooth N, --smooth-normals N, --simplify E  post-processing, as convert\n"
+        "      --smooth [N], --smooth-normals [N], --simplify E  post-processing, as convert\n"
         "  -j, --threads LIST          worker threads; 0 = all cores (default 1,CORES)\n"
         "      --templates auto|on|off|both  sphere templates for isolated particles\n"
         "                              (auto: both for spray scenes, on otherwise)\n"
@@ -286,8 +286,8 @@ static const struct option bench_long[] = {
     {"json-out", required_argument, 0, B_JSONOUT},
     {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, B_HELP},
-    {"smooth", required_argument, 0, B_POST_SMOOTH},
-    {"smooth-normals", required_argument, 0, B_POST_NSMOOTH},
+    {"smooth", optional_argument, 0, B_POST_SMOOTH},
+    {"smooth-normals", optional_argument, 0, B_POST_NSMOOTH},
     {"simplify", required_argument, 0, B_POST_SIMPLIFY},
     {0, 0, 0, 0},
 };
@@ -363,7 +363,8 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case B_POST_SMOOTH:
         case B_POST_NSMOOTH: {
             long l;
-            if (cli_parse_long(optarg, 0, 100000, &l) != 0)
+            if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
+                                  c == B_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l) != 0)
                 return options_usage_error(CMD, "%s must be a whole number from 0 to 100000, not '%s'",
                                            c == B_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
             if (c == B_POST_SMOOTH)
