@@ -59,6 +59,10 @@ static void bench_help(FILE *f)
         "                              drc, ply, vtk, draco.glb) into a temporary\n"
         "                              file: the 'write' stage, not part of total\n"
         "      --write-dir DIR         where (default $TMPDIR or /tmp)\n"
+        "      --flicker K             also mesh each input K times, moved by 1/K of a\n"
+        "                              cube more each time, and measure how far each\n"
+        "                              mesh moved back lies from the first (flicker,\n"
+        "                              in R: 0 for translated copies)\n"
         "\n"
         "Output:\n"
         "      --json                  one JSON document on stdout instead of the table\n"
@@ -260,7 +264,7 @@ enum {
     B_SCENE = 256, B_FIELD, B_METHOD, B_SMOOTH, B_THRESHOLD, B_LINK, B_TEMPLATES, B_SEED,
     B_INFORMAT, B_MINTIME, B_REPEAT, B_MAXREPEAT, B_WARMUP, B_WRITE, B_WRITEDIR, B_JSON,
     B_JSONOUT, B_HELP,
-    B_POST_SMOOTH, B_POST_NSMOOTH, B_POST_SIMPLIFY
+    B_POST_SMOOTH, B_POST_NSMOOTH, B_POST_SIMPLIFY, B_FLICKER
 };
 
 static const struct option bench_long[] = {
@@ -289,6 +293,7 @@ static const struct option bench_long[] = {
     {"smooth", optional_argument, 0, B_POST_SMOOTH},
     {"smooth-normals", optional_argument, 0, B_POST_NSMOOTH},
     {"simplify", required_argument, 0, B_POST_SIMPLIFY},
+    {"flicker", required_argument, 0, B_FLICKER},
     {0, 0, 0, 0},
 };
 
@@ -371,6 +376,14 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
                 o->smooth_iters = (int)l;
             else
                 o->smooth_normal_iters = (int)l;
+            break;
+        }
+        case B_FLICKER: {
+            long l;
+            if (cli_parse_long(optarg, 0, 1000, &l) != 0 || l == 1)
+                return options_usage_error(CMD, "--flicker must be 0 or a whole number of frames from 2 to 1000, "
+                                           "not '%s'", optarg);
+            o->flicker = (int)l;
             break;
         }
         case B_POST_SIMPLIFY:
