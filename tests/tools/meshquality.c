@@ -9,12 +9,13 @@
 static void usage(void)
 {
     fprintf(stderr,
-            "usage: meshquality MESH.obj [--ref RAW.obj] [-r R] [--sphere] [--pixel P]\n"
+            "usage: meshquality MESH.obj [--ref RAW.obj] [-r R] [--sphere] [--pixel P] [--quick]\n"
             "  MESH, RAW   Wavefront OBJ (jetmesh -o x.obj, splashsurf's ssbench -o x.obj)\n"
             "  --ref RAW   the raw mesh the figures of distance, outline and pieces compare against\n"
             "  -r R        particle radius: lengths are printed in units of R (default 0.025)\n"
             "  --sphere    the largest piece is a ball: its radial deviation and normals\n"
             "  --pixel P   the outline raster's pixel, relative to R (default 0.1)\n"
+            "  --quick     no distances of RAW's vertices from MESH (ref_dist_*: -1)\n"
             "Figures (lengths in R):\n"
             "  dihedral_mean_deg  mean angle between the normals of the two triangles of an edge\n"
             "  dist_p99           99th percentile of the distance of MESH's vertices from RAW's surface\n"
@@ -37,12 +38,13 @@ int main(int argc, char **argv)
 {
     const char *path = NULL, *refp = NULL;
     double R = 0.025, pixel = 0.1;
-    int sphere = 0;
+    int sphere = 0, quick = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--ref") && i + 1 < argc) refp = argv[++i];
         else if (!strcmp(argv[i], "-r") && i + 1 < argc) R = atof(argv[++i]);
         else if (!strcmp(argv[i], "--pixel") && i + 1 < argc) pixel = atof(argv[++i]);
         else if (!strcmp(argv[i], "--sphere")) sphere = 1;
+        else if (!strcmp(argv[i], "--quick")) quick = 1;
         else if (argv[i][0] != '-' && !path) path = argv[i];
         else {
             usage();
@@ -81,7 +83,8 @@ int main(int argc, char **argv)
     if (refp) {
         double p50, p99, mx, r50, r99, rmx, pull, pull99, push, vref = mm_volume(&ref);
         mm_distances(&m, &ref, &p50, &p99, &mx);
-        mm_distances(&ref, &m, &r50, &r99, &rmx);
+        if (quick) r50 = r99 = rmx = -R;
+        else mm_distances(&ref, &m, &r50, &r99, &rmx);
         mm_outline(&ref, &m, pixel * R, &pull, &pull99, &push);
         mm_piece *pr;
         size_t nr = mm_pieces(&ref, &pr, NULL);
