@@ -65,9 +65,8 @@ JM_SM_CLONES static void nmask_task(void *arg, size_t chunk, int worker)
     }
 }
 
-/* One step: the mean of the vertex's normal and those nmask_task chose
- * (directions only; made unit at the end). Plain steps: super time
- * stepping's large steps turn a few normals past their faces. */
+/* One step of size job->tau toward the mean of the vertex's normal and
+ * those nmask_task chose (directions only; made unit at the end). */
 JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
@@ -77,13 +76,18 @@ JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
     float *D = job->dst;
     const uint32_t *nm8 = job->f.nc8;
     const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
-    for (size_t v = a; v < b; v++) sm_store4(&D[4 * v], sm_add_slots8(sm_load4(&S[4 * v]), S, &nm8[8 * v]) * ninv[v]);
+    const float tau = job->tau;
+    for (size_t v = a; v < b; v++) {
+        const v4f n = sm_load4(&S[4 * v]);
+        sm_store4(&D[4 * v], n + tau * (sm_add_slots8(n, S, &nm8[8 * v]) * ninv[v] - n));
+    }
     for (size_t k = sm_lower_bound(job->f.big, job->f.nbig, a); k < job->f.nbig && job->f.big[k] < b; k++) {
         const size_t v = job->f.big[k];
-        v4f t = sm_load4(&S[4 * v]);
+        const v4f n = sm_load4(&S[4 * v]);
+        v4f t = n;
         for (uint32_t i = job->f.bstart[k]; i < job->f.bstart[k + 1]; i++)
             if (nj->bflag[i]) t += sm_load4(&S[4 * (size_t)job->f.bnb[i]]);
-        sm_store4(&D[4 * v], t * ninv[v]);
+        sm_store4(&D[4 * v], n + tau * (t * ninv[v] - n));
     }
 }
 
@@ -156,17 +160,22 @@ jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *jo
         memcpy(keep, job->m->nrm, nv * 3 * sizeof *keep);
         widen(a, job->m->nrm, nv);
         widen(b, job->m->nrm, nv);
+        float *tau = NULL;
+        const int nsteps = sm_plan(niters, mem, &tau); /* in fewer passes, as the positions */
+        if (nsteps < 0) return JM_E_OUT_OF_MEMORY;
         job->src = a;
         sm_run_ranges(pool, job->nchunks, nmask_task, &nj);
-        for (int it = 0; it < niters; it++) {
+        for (int it = 0; it < nsteps; it++) {
             job->src = a;
             job->dst = b;
+            job->tau = tau[it];
             sm_run_ranges(pool, job->nchunks, nstep_task, &nj);
             float *t = a;
             a = b;
             b = t;
         }
         narrow(job->m->nrm, a, nv);
+        jm_free(mem, tau, (size_t)nsteps * sizeof *tau);
     }
     job->src = keep ? keep : job->m->nrm;
     job->bound = 1.0f; /* normalise */
