@@ -50,7 +50,7 @@ CLI   = $(BUILD)/jetmesh
 
 .SECONDARY:
 
-.PHONY: all deps deps-build print-libs check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
+.PHONY: all deps deps-build print-libs print-tutil check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
@@ -105,6 +105,11 @@ tests-build: $(TEST_BIN) $(TOOL_BIN) $(CLI)
 # library built otherwise (t_splat_variants.sh)
 print-libs:
 	@echo $(LIBS)
+
+# the tests' shared objects, for a test that links a test binary by hand
+# (t_aniso_cull_broken.sh)
+print-tutil:
+	@echo $(TUTIL_OBJ)
 
 test-unit: tests-build
 	@tests/run_all.sh $(BUILD) unit
