@@ -338,12 +338,15 @@ typedef struct jm_params {
                                  Löschner et al. 2023), run in fewer passes
                                  (super time stepping: 25 in 9), each vertex's
                                  move along its unsmoothed normal kept within
-                                 0.5 r, so bumps of the particles' size go
-                                 while droplets, crests and ripples higher
-                                 than that keep their shape. Then every
-                                 connected piece is moved along its normals,
-                                 within the same 0.5 r, to enclose its
-                                 unsmoothed volume again. Normals become the
+                                 0.5 r (a quarter of its piece's thickness
+                                 3 V / A where less), so bumps of the
+                                 particles' size go while droplets, crests
+                                 and ripples higher than that keep their
+                                 shape. Then every connected piece is moved
+                                 along its normals, within the same band, to
+                                 enclose its unsmoothed volume again, and
+                                 triangles turned over are taken back toward
+                                 their unsmoothed places. Normals become the
                                  smoothed surface's (area-weighted); UVs are
                                  recomputed; triangles and sphere templates
                                  are unchanged. 0 = off; at most 100000 */

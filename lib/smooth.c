@@ -10,17 +10,20 @@
  * Feature weights from the particles' neighbour counts slow it where the
  * particles are few, but a dense droplet's count looks like bulk fluid.
  * Here the smoothing is bounded instead: every vertex moves freely along
- * the surface, but its move along its raw normal stays within +-0.5 r
- * (smooth_steps.c). A bump of the particles' size (a few tenths of r high)
- * is smoothed away; a droplet, a crest, a thin neck or a ripple taller
- * than that keeps its shape, moved by at most half a radius, whatever the
- * particles' count says. Then every piece gets its raw volume back by an
- * offset along the raw normals within the same bound (smooth_volume.c):
- * no piece can lose more than the band lets it. The iterations are those
- * of plain Laplacian smoothing, run in fewer passes (smooth_plan.c);
- * normals: smooth_normals.c.
+ * the surface, but its move along its raw normal stays within +-0.5 r, and
+ * within a quarter of its piece's thickness 3 V / A where that is less (a
+ * jet's column, a pair: smooth_steps.c). A bump of the particles' size (a
+ * few tenths of r high) is smoothed away; a droplet, a crest, a thin neck
+ * or a ripple taller than that keeps its shape, moved by at most half a
+ * radius, whatever the particles' count says. Then every piece gets its raw
+ * volume back by an offset along the raw normals within the same band
+ * (smooth_volume.c): no piece can lose more than the band lets it; and no
+ * triangle stays turned over (smooth_guard.c). The iterations are those of
+ * plain Laplacian smoothing, run in fewer passes (smooth_plan.c); normals:
+ * smooth_normals.c.
  */
 #define SM_BAND 0.5f /* the band's half width, in r: the most a vertex moves along its raw normal */
+#define SM_THIN 0.25 /* ... and at most this times its piece's thickness 3 V / A (a jet's column, a pair) */
 
 void sm_run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, void *arg)
 {
@@ -104,10 +107,11 @@ static jm_status smooth_positions(jm_mem *mem, jm_pool *pool, jm_post_scratch *s
     if (!comp || !a || !b || !job->dir || !odd) return JM_E_OUT_OF_MEMORY;
     job->comp = comp;
     const size_t np = job->npieces = label_pieces(pool, job->m, nv, comp);
-    /* per piece: origin 3, volume, thickness, work 4 */
-    double *origin = sm_scratch(sc, mem, SB_PIECE, np * 9 * sizeof *origin);
+    /* per piece: origin 3, volume, thickness, work 4, then its band */
+    double *origin = sm_scratch(sc, mem, SB_PIECE, np * (9 * sizeof *origin + sizeof(float)));
     if (!origin) return JM_E_OUT_OF_MEMORY;
     double *vol0 = origin + 3 * np, *thick = vol0 + np, *work = thick + np;
+    float *band = (float *)(work + 4 * np);
     for (size_t v = 0, k = 0; v < nv && k < np; v++)
         if (comp[v] == k) { /* a piece's first vertex (the labels come in vertex order): its origin */
             for (int j = 0; j < 3; j++) origin[3 * k + j] = job->m->pos[3 * v + j];
@@ -131,12 +135,13 @@ static jm_status smooth_positions(jm_mem *mem, jm_pool *pool, jm_post_scratch *s
         if (job->f.deg[v] - 1 >= 8 || (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f)) odd[job->nodd++] = (uint32_t)v;
     }
     job->odd = odd;
-    job->bound = SM_BAND * job->c->r;
     sm_runs_total(&job->runs, 2, work, np);
     for (size_t k = 0; k < np; k++) {
         vol0[k] = work[2 * k] / 9.0;
         thick[k] = work[2 * k + 1] > 0.0 ? 9.0 * vol0[k] / work[2 * k + 1] : 0.0; /* 3 V / area: |A| sums 3 areas */
+        band[k] = (float)fmin(SM_BAND * job->c->r, SM_THIN * fabs(thick[k]));
     }
+    job->band = band;
     float *tau = NULL;
     const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau);
     if (nsteps < 0) st = JM_E_OUT_OF_MEMORY;
@@ -153,6 +158,7 @@ static jm_status smooth_positions(jm_mem *mem, jm_pool *pool, jm_post_scratch *s
     job->src = a;
     job->dst = b;
     if (st == JM_OK) sm_restore_volumes(pool, job, vol0, thick, work);
+    if (st == JM_OK) st = sm_guard_folds(pool, job, b);
     if (st == JM_OK)
         for (size_t v = 0; v < nv; v++)
             for (int j = 0; j < 3; j++) job->m->pos[3 * v + j] = b[4 * v + j];

@@ -123,7 +123,8 @@ typedef struct sm_job {
     float *dst;
     const double *origin; /* per piece a point of it: 3 doubles (its volume sums about it) */
     const double *shift;  /* restoration: per piece its offset along dir */
-    float bound;          /* the largest |t| (the band) */
+    const float *band;    /* per piece: the largest |t| (smooth.c) */
+    int normalise;        /* smooth_normals.c's last pass: make the normals unit */
     float tau;            /* this step's size (smooth_plan.c) */
     int failed;
 } sm_job;
@@ -180,6 +181,11 @@ void sm_step_task(void *arg, size_t chunk, int worker);
 /* smooth_volume.c */
 void sm_restore_volumes(jm_pool *pool, sm_job *job, const double *vol0, const double *thick, double *work);
 void sm_piece_volumes(jm_pool *pool, sm_job *job, const float *P, double *out);
+
+/* smooth_guard.c: triangles of pos (the smoothed positions, 4 per vertex;
+ * job->m->pos the raw ones) turned over by the smoothing: their corners
+ * taken back toward the raw positions. */
+jm_status sm_guard_folds(jm_pool *pool, sm_job *job, float *pos);
 
 /* smooth_normals.c */
 jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *job, const float *pos, int want_nrm);

@@ -98,14 +98,14 @@ static inline v4f unit3(v4f n, v4f fallback)
     return l > 0.0f ? n / l : fallback;
 }
 
-/* Normalises the normals (job->bound > 0; job->src, 3 per vertex: the
+/* Normalises the normals (job->normalise; job->src, 3 per vertex: the
  * unsmoothed normals, the fallback) and sets the UVs. */
 static void finish_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
-    if (job->bound > 0.0f)
+    if (job->normalise)
         for (size_t v = a; v < b; v++) {
             float *n = &job->m->nrm[3 * v];
             const v4f k = sm_load3(&job->src[3 * v]), u = unit3(sm_load3(n), k);
@@ -141,7 +141,7 @@ jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *jo
     const int niters = job->c->smooth_normal_iters;
     if (!want_nrm) {
         if (job->c->uv_mode != JM_UV_NONE) {
-            job->bound = 0.0f; /* planar UVs: no normals to normalise */
+            job->normalise = 0; /* planar UVs: no normals to normalise */
             sm_run_ranges(pool, job->nchunks, finish_task, job);
         }
         return JM_OK;
@@ -178,7 +178,7 @@ jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *jo
         jm_free(mem, tau, (size_t)nsteps * sizeof *tau);
     }
     job->src = keep ? keep : job->m->nrm;
-    job->bound = 1.0f; /* normalise */
+    job->normalise = 1;
     sm_run_ranges(pool, job->nchunks, finish_task, job);
     return JM_OK;
 }

@@ -42,28 +42,32 @@ static void step_one(const sm_job *job, size_t v)
         }
         p += job->tau * (sum * job->f.inv[v] - p);
         p[3] = 1.0f;
-        p = into_band(p, n, job->bound);
+        p = into_band(p, n, job->band[job->comp[v]]);
     }
     sm_store4(&job->dst[4 * v], p);
 }
 
-/* The step over one chunk: the usual vertex (1 to 8 neighbours, a raw
- * normal) in straight-line code, its row's 8 slots summed (the -0 sentinel
- * adds nothing), then the odd ones again one by one. */
+/* The step over one chunk, run by run (a piece's band each): the usual
+ * vertex (1 to 8 neighbours, a raw normal) in straight-line code, its
+ * row's 8 slots summed (the -0 sentinel adds nothing), then the odd ones
+ * again one by one. */
 JM_SM_CLONES void sm_step_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     const float *S = job->src, *N = job->dir, *inv = job->f.inv;
-    const float b = job->bound;
     const uint32_t *nb8 = job->f.nb8;
+    const sm_runs *r = &job->runs;
     float *D = job->dst;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;
-    for (size_t v = a; v < e; v++) {
-        v4f p = sm_load4(&S[4 * v]);
-        p += job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p);
-        sm_store4(&D[4 * v], into_band(p, sm_load4(&N[4 * v]), b));
+    for (uint32_t k = r->chunk_run[chunk]; k < r->chunk_run[chunk + 1]; k++) {
+        const float b = job->band[r->piece[k]];
+        for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
+            v4f p = sm_load4(&S[4 * v]);
+            p += job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p);
+            sm_store4(&D[4 * v], into_band(p, sm_load4(&N[4 * v]), b));
+        }
     }
+    const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;
     for (size_t i = sm_lower_bound(job->odd, job->nodd, a); i < job->nodd && job->odd[i] < e; i++)
         step_one(job, job->odd[i]);
 }

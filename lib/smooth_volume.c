@@ -14,7 +14,7 @@ JM_SM_CLONES static void volume_task(void *arg, size_t chunk, int worker)
     size_t kb = sm_lower_bound(job->f.big, job->f.nbig, chunk * SM_CH);
     for (uint32_t k = r->chunk_run[chunk]; k < r->chunk_run[chunk + 1]; k++) {
         const double *o = &job->origin[3 * (size_t)r->piece[k]];
-        const float bound = job->bound;
+        const float bound = job->band[r->piece[k]];
         double vol = 0.0, grow = 0.0, shrink = 0.0;
         for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
             const float *p = &P[4 * v];
@@ -47,14 +47,14 @@ void sm_piece_volumes(jm_pool *pool, sm_job *job, const float *P, double *out)
 
 /* The restored positions job->dst from the smoothed job->src: each vertex
  * moved along its raw normal by its piece's offset job->shift, its t kept
- * within job->bound. */
+ * within its piece's band. */
 JM_SM_CLONES static void offset_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
     const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
-    const float bound = job->bound;
     for (size_t v = a; v < b; v++) {
+        const float bound = job->band[job->comp[v]];
         const v4f n = sm_load4(&job->dir[4 * v]);
         v4f p = sm_load4(&job->src[4 * v]);
         const float t = sm_move(p, n)[0];
@@ -68,7 +68,7 @@ JM_SM_CLONES static void offset_task(void *arg, size_t chunk, int worker)
 /*
  * Every piece gets its raw volume back: an offset s along the raw normals
  * (Newton's method on V(s), two passes), each vertex's t staying within
- * the bound. Only the vertices free to move the asked way count in the
+ * the band. Only the vertices free to move the asked way count in the
  * derivative, so a piece whose vertices all sit at the band's edge still
  * grows; the steps are at most 0.3 of the piece's thickness (3 V / A: a
  * ball's radius), so a small shrunken piece is not overshot, and no cap
@@ -86,7 +86,7 @@ void sm_restore_volumes(jm_pool *pool, sm_job *job, const double *vol0, const do
         sm_piece_volumes(pool, job, pass == 0 ? smoothed : out, d);
         for (size_t k = 0; k < np; k++) {
             const double need = vol0[k] - d[3 * k], dv = need > 0.0 ? d[3 * k + 1] : d[3 * k + 2];
-            const double cap = fmin((double)job->bound, 0.3 * fabs(thick[k]));
+            const double cap = fmin((double)job->band[k], 0.3 * fabs(thick[k]));
             if (dv > 0.0 && need != 0.0) s[k] += fmax(-cap, fmin(cap, need / dv));
         }
         job->src = smoothed;
