@@ -38,6 +38,9 @@ LIB_OBJ   := $(LIB_SRC:%.c=$(BUILD)/%.o)
 FMT_OBJ   := $(FMT_CSRC:%.c=$(BUILD)/%.o) $(FMT_XSRC:%.cpp=$(BUILD)/%.o)
 CLI_OBJ   := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TUTIL_OBJ := $(TUTIL_SRC:%.c=$(BUILD)/%.o)
+# the tests' mesh figures (tests/util/meshmetrics.c) measure distances as the bench's flicker figure
+# does, and their inputs are jetmesh generate's scenes
+TUTIL_OBJ += $(BUILD)/cli/bench/mesh_distance.o $(BUILD)/cli/scenes.o $(BUILD)/cli/scenes_liquid.o
 TEST_BIN  := $(TEST_SRC:tests/%.c=$(BUILD)/bin/%)
 TOOL_BIN  := $(TOOL_SRC:tests/tools/%.c=$(BUILD)/tools/%)
 
@@ -48,7 +51,7 @@ CLI   = $(BUILD)/jetmesh
 
 .SECONDARY:
 
-.PHONY: all deps deps-build print-libs check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
+.PHONY: all deps deps-build print-libs print-tutil check kill-soak pictures test-unit test-scripts demo bench bench-large fuzz fuzz-build install clean asan
 
 all: $(LIBA) $(LIBSO) $(CLI)
 
@@ -107,6 +110,11 @@ tests-build: $(TEST_BIN) $(TOOL_BIN) $(CLI)
 # library built otherwise (t_splat_variants.sh)
 print-libs:
 	@echo $(LIBS)
+
+# the tests' shared objects, for a test that links a test binary by hand
+# (t_aniso_cull_broken.sh)
+print-tutil:
+	@echo $(TUTIL_OBJ)
 
 test-unit: tests-build
 	@tests/run_all.sh $(BUILD) unit

@@ -99,6 +99,10 @@ int cmd_generate(int argc, char **argv)
             s = scene_jet((int)f, o.radius, &pts);
         else if (strcmp(o.scene, "block") == 0)
             s = scene_block(o.count, o.radius, o.seed + (uint64_t)f, &pts);
+        else if (strcmp(o.scene, "ball") == 0)
+            s = scene_ball(o.count, o.radius, o.seed + (uint64_t)f, &pts);
+        else if (strcmp(o.scene, "droplets") == 0)
+            s = scene_droplets(o.count, o.radius, o.seed + (uint64_t)f, &pts);
         else
             s = scene_spray(o.count, o.radius, o.seed + (uint64_t)f, &pts);
         if (s != 0) {

@@ -25,3 +25,15 @@ int cli_parse_long(const char *s, long lo, long hi, long *out)
     *out = v;
     return 0;
 }
+
+int cli_optional_long(const char *arg, int argc, char **argv, int *next, long lo, long hi, long dflt, long *out)
+{
+    if (arg) return cli_parse_long(arg, lo, hi, out);
+    /* "--opt N": getopt leaves N for the next word; take it when it is one */
+    if (*next < argc && cli_parse_long(argv[*next], lo, hi, out) == 0) {
+        ++*next;
+        return 0;
+    }
+    *out = dflt;
+    return 0;
+}

@@ -106,10 +106,11 @@ void options_convert_help(FILE *f)
         "      --anisotropic-radius N  its neighbourhood radius, relative to R (default 8)\n"
         "\n"
         "Post-processing (off by default; in this order):\n"
-        "      --smooth N              N iterations of feature-weighted smoothing: bulk\n"
-        "                              fluid smooth, droplets and sheets kept, volume\n"
-        "                              restored (25 removes SPH \"orange peel\")\n"
-        "      --smooth-normals N      N iterations of normal smoothing (e.g. 10)\n"
+        "      --smooth [N]            N iterations of Laplacian smoothing (default 25,\n"
+        "                              as splashsurf's 25): bumps of particle size\n"
+        "                              removed, no point moved over 0.5 R along its\n"
+        "                              normal, each piece's volume restored\n"
+        "      --smooth-normals [N]    N iterations of normal smoothing (default 10)\n"
         "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n"
         "\n",
         f);
@@ -180,6 +181,9 @@ void options_generate_help(FILE *f)
           "  jet       the 125-particle liquid jet, a sequence of frames 0..99\n"
           "  block N   N particles on a cubic lattice of spacing 2R, jittered\n"
           "  spray N   N isolated droplets at least 8R apart\n"
+          "  ball N    a ball of about N particles: a lattice of spacing 2R, jittered\n"
+          "  droplets N  N groups 24R apart: single particles, pairs, dense clusters,\n"
+          "            lines and drops hanging from a sheet by a thin neck\n"
           "\n"
           "Options:\n"
           "  -o, --output OUTPUT         .csv or .xyz file; with {} or %03d, one per frame\n"
@@ -242,8 +246,8 @@ static const struct option convert_long[] = {
     {"max-memory", required_argument, 0, O_MAXMEM},
     {"anisotropic", no_argument, 0, O_ANISO},
     {"anisotropic-radius", required_argument, 0, O_ANISO_RADIUS},
-    {"smooth", required_argument, 0, O_POST_SMOOTH},
-    {"smooth-normals", required_argument, 0, O_POST_NSMOOTH},
+    {"smooth", optional_argument, 0, O_POST_SMOOTH},
+    {"smooth-normals", optional_argument, 0, O_POST_NSMOOTH},
     {"simplify", required_argument, 0, O_POST_SIMPLIFY},
     {"quiet", no_argument, 0, 'q'},
     {"verbose", no_argument, 0, 'v'},
@@ -382,7 +386,8 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_KEEPCAV: o->params.keep_cavities = 1; break;
         case O_POST_SMOOTH:
         case O_POST_NSMOOTH:
-            if (cli_parse_long(optarg, 0, 100000, &l) != 0)
+            if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
+                                  c == O_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l) != 0)
                 rc = options_usage_error(cmd, "%s must be a whole number from 0 to 100000, not '%s'",
                                          c == O_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
             else if (c == O_POST_SMOOTH)
@@ -597,11 +602,13 @@ int options_parse_generate(int argc, char **argv, generate_options *o)
         return rc;
     int nargs = argc - optind;
     if (nargs < 1)
-        return options_usage_error(cmd, "no scene: give jet, block N or spray N");
+        return options_usage_error(cmd, "no scene: give jet, block N, spray N, ball N or droplets N");
     o->scene = argv[optind];
-    int needs_n = strcmp(o->scene, "block") == 0 || strcmp(o->scene, "spray") == 0;
+    int needs_n = strcmp(o->scene, "block") == 0 || strcmp(o->scene, "spray") == 0 ||
+                  strcmp(o->scene, "ball") == 0 || strcmp(o->scene, "droplets") == 0;
     if (!needs_n && strcmp(o->scene, "jet") != 0)
-        return options_usage_error(cmd, "unknown scene '%s': give jet, block N or spray N", o->scene);
+        return options_usage_error(cmd, "unknown scene '%s': give jet, block N, spray N, ball N or droplets N",
+                                   o->scene);
     if (needs_n) {
         long n;
         if (nargs < 2)

@@ -13,6 +13,7 @@
  */
 
 #define SCENE_DEFAULT_RADIUS 0.025
+#define SCENE_PI_L 3.14159265358979323846
 #define SCENE_JET_PARTICLES 125 /* particles in the whole jet */
 #define SCENE_JET_FRAMES 100    /* the jet's last particle leaves the nozzle in frame 99 */
 
@@ -53,6 +54,25 @@ int scene_block(size_t n, double r, uint64_t seed, scene_points *out);
  * 0 or -1.
  */
 int scene_spray(size_t n, double r, uint64_t seed, scene_points *out);
+
+/**
+ * A ball of n particles centred on the origin (scenes_liquid.c), packed at
+ * random: points uniform in the ball whose radius holds n at the density
+ * of a cubic lattice of spacing 2r, each kept when at least 1.6 r from
+ * those kept before (fewer than n if 60 n candidates do not reach it).
+ * Its true surface is a sphere: a lattice cut by a sphere has facets. 0 or -1.
+ */
+int scene_ball(size_t n, double r, uint64_t seed, scene_points *out);
+
+/**
+ * n groups of particles 24 r apart on a cubic grid, the smoothing's hard
+ * cases (scenes_liquid.c), kind g % 5 for group g: a single particle; a
+ * pair 1.4 r to 2.2 r apart; a dense cluster of 5 to 10 particles within
+ * 1.2 r of its centre (as splashes make them); a line of 3 to 6 particles
+ * 1.6 r to 2 r apart; a cluster of 7 hanging by a neck of two particles
+ * from a sheet of two layers of 6 x 6. 0 or -1.
+ */
+int scene_droplets(size_t n, double r, uint64_t seed, scene_points *out);
 
 /** Frees the particles and zeroes *p. NULL is allowed. */
 void scene_points_free(scene_points *p);

@@ -403,27 +403,31 @@ typedef struct jm_params {
                                  counted) below which a kernel stays
                                  isotropic; default 25 (r_n / 8r)^3, >= 3 */
     /* ---- post-processing, in this order (all off by default) */
-    int smooth_iterations;  /**< iterations of feature-weighted Laplacian
-                                 smoothing (Löschner et al. 2023): each step
-                                 moves every vertex toward the mean of its
-                                 neighbours by a weight from 0 to 1
-                                 interpolated from the particles' neighbour
-                                 counts (1 over bulk fluid, near 0 for
-                                 droplets, pairs and thin sheets, which keep
-                                 their shape; sphere templates never move);
-                                 steps run in cycles of 5 with super time
-                                 stepping sizes (25 iterations smooth like
-                                 about 75 plain steps). Then every connected
-                                 piece is moved along its normals to enclose
-                                 its unsmoothed volume again. Normals become
-                                 the smoothed surface's (area-weighted mesh
-                                 normals, blended with the field's by the
-                                 weight); UVs are recomputed. Triangles are
-                                 unchanged. 0 = off; at most 100000 */
+    int smooth_iterations;  /**< iterations of bounded Laplacian smoothing:
+                                 as much smoothing as this many steps moving
+                                 every vertex to the mean of its neighbours
+                                 (splashsurf's iterations in bulk fluid,
+                                 Löschner et al. 2023), run in fewer passes
+                                 (super time stepping: 25 in 9), each vertex's
+                                 move along its unsmoothed normal kept within
+                                 0.5 r (a quarter of its piece's thickness
+                                 3 V / A where less), so bumps of the
+                                 particles' size go while droplets, crests
+                                 and ripples higher than that keep their
+                                 shape. Then every connected piece is moved
+                                 along its normals, within the same band, to
+                                 enclose its unsmoothed volume again, and
+                                 triangles turned over are taken back toward
+                                 their unsmoothed places. Normals become the
+                                 smoothed surface's (area-weighted); UVs are
+                                 recomputed; triangles and sphere templates
+                                 are unchanged. 0 = off; at most 100000 */
     int smooth_normal_iterations; /**< iterations of normal smoothing (each
                                  normal becomes the unit mean of itself and
-                                 its neighbours'), after smoothing; UVs
-                                 follow. 0 = off; at most 100000 */
+                                 its neighbours' facing the same side), after
+                                 smoothing; a normal that ends past its face
+                                 keeps its own. UVs follow. 0 = off; at most
+                                 100000 */
     float simplify_error;   /**< simplify the final mesh (meshoptimizer edge
                                  collapses) to at most this geometric error,
                                  relative to r (e.g. 0.1); surviving vertices

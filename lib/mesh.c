@@ -734,9 +734,9 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
         ctx->ni = ti;
         jm_pool_run(ctx->pool, g.n_isolated, 64, template_task, &job);
     }
-    if (!post) {
-        /* nothing below reads the particles (the post-processing would):
-         * their grid goes before the last stages take memory */
+    {
+        /* nothing below reads the particles (the smoothing works on the
+         * mesh alone): their grid goes before the last stages take memory */
         size_t iso = g.n_isolated;
         jm_grid_free(&g, mem);
         g.n_isolated = iso;
@@ -788,7 +788,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
             pm.ni_lattice = job.tmpl_i0;
         }
         if (roots_ok) pm.roots = job.roots;
-        s = jm_smooth_mesh(mem, ctx->pool, &ctx->post, c, &g, &pm);
+        s = jm_smooth_mesh(mem, ctx->pool, &ctx->post, c, &pm);
         if (s == JM_OK) s = jm_simplify_mesh(mem, c, &pm);
         if (s != JM_OK) goto out_job;
         ctx->nv = pm.nv;

@@ -1,4 +1,4 @@
-/* post.h - post-processing of an extracted mesh: feature-weighted smoothing, normal smoothing, simplification. */
+/* post.h - post-processing of an extracted mesh: bounded smoothing, normal smoothing, simplification. */
 #ifndef JETMESH_POST_H
 #define JETMESH_POST_H
 #include "internal.h"
@@ -16,20 +16,19 @@ typedef struct jm_post_mesh {
 
 /* Working arrays of the post-processing, kept by the context from frame to
  * frame (fresh memory costs a page fault per 4 KiB on first touch). */
-#define JM_POST_BUFS 17
+#define JM_POST_BUFS 14
 typedef struct jm_post_scratch {
     void *p[JM_POST_BUFS];
     size_t bytes[JM_POST_BUFS];
 } jm_post_scratch;
 void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem);
 
-/* Smooths the lattice part of m (smooth.c): c->smooth_iters iterations of
- * feature-weighted Laplacian smoothing with the enclosed volume of every
- * connected piece restored, normals from the new surface, then
- * c->smooth_normal_iters iterations of normal smoothing and fresh UVs.
- * Deterministic for any thread count. */
-jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *scratch, const jm_config *c, const jm_grid *g,
-                         jm_post_mesh *m);
+/* Smooths the lattice part of m (smooth.c): c->smooth_iters steps of
+ * Laplacian smoothing, every vertex's move along its raw normal bounded,
+ * with the enclosed volume of every connected piece restored, normals from
+ * the new surface, then c->smooth_normal_iters iterations of normal
+ * smoothing and fresh UVs. Deterministic for any thread count. */
+jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *scratch, const jm_config *c, jm_post_mesh *m);
 
 /* Simplifies m to the geometric error c->simplify_error (world units) with
  * meshoptimizer (simplify.c), compacting the vertex arrays; keeps the input

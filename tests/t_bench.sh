@@ -108,4 +108,22 @@ node -e '
   if (o.failed !== 1 || o.cases[0].status !== "failed" || !o.cases[0].error) throw new Error("failed case");
   ' "$T/missing.json" || fail "missing input: $(cat "$T/missing.json")"
 note "failed case: ok"
+# 7. --flicker: a block moved by a quarter cube per frame gives nearly
+# translated copies (the lattice's sampling: 0.03 R); the bounded smoothing
+# adds some (0.10 R; the unbounded smoothing before: 0.17 R)
+for s in "" "--smooth 25 --smooth-normals 10"; do
+  # shellcheck disable=SC2086
+  "$J" bench --json --scene block:8000 --field sph --method mc -j 2 --min-time 0 --repeat 1 --flicker 4 $s \
+    >"$T/flicker.json" 2>"$T/err" || fail "--flicker $s: exit $?: $(cat "$T/err")"
+  lim=0.05; [ -n "$s" ] && lim=0.13
+  node -e '
+    const c = JSON.parse(require("fs").readFileSync(process.argv[1], "utf8")).cases[0];
+    if (!c.flicker || c.flicker.frames !== 4) throw new Error("no flicker figure");
+    if (!(c.flicker.p99_r >= 0 && c.flicker.p99_r <= +process.argv[2] && c.flicker.max_r >= c.flicker.p99_r))
+      throw new Error("flicker p99 " + c.flicker.p99_r + " R over " + process.argv[2]);
+    ' "$T/flicker.json" "$lim" || fail "--flicker $s: $(grep -o '"flicker": [^}]*}' "$T/flicker.json")"
+done
+"$J" bench --flicker 1 --scene block:100 >/dev/null 2>&1
+[ $? = 2 ] || fail "--flicker 1 is not a usage error"
+note "flicker: ok"
 echo "t_bench: all ok"

@@ -1,4 +1,4 @@
-/* test_post.c - post-processing: smoothing removes SPH orange peel and keeps volumes and droplets, simplification stays close and closed. */
+/* test_post.c - post-processing: smoothing reduces SPH orange peel and keeps volumes and droplets, simplification stays close and closed. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -150,7 +150,11 @@ static void test_ball_orange_peel(void **state)
     double dv = (r1.volume - r0.volume) / r0.volume;
     printf("ball of %zu particles: radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, volume %+.2f %%\n", n,
            sd0 / R, sd1 / R, a0, a1, 100 * dv);
-    assert_true(sd1 <= sd0 / 3);
+    /* about half (0.48): no vertex moves more than 0.5 r along its normal
+     * and 25 iterations diffuse as splashsurf's 25 do (issue 31; the
+     * unbounded smoothing before reached a third by moving the surface up
+     * to 1.1 r and shrinking dense droplets to nothing) */
+    assert_true(sd1 <= 0.55 * sd0);
     assert_true(a1 <= 10.0);
     assert_true(fabs(dv) <= 0.02);
     /* the same triangles: smoothing moves vertices only */
@@ -188,8 +192,10 @@ static void test_ball_orange_peel(void **state)
     dv = (v1[outer] - v0[outer]) / v0[outer];
     printf("metasphere ball (outer surface of %zu pieces): radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, "
            "volume %+.2f %%\n", nc, sd0 / R, sd1 / R, a0, a1, 100 * dv);
-    assert_true(sd1 < sd0 / 2);
-    assert_true(a1 <= 10.0);
+    /* 0.53 and 12.7 degrees: the metasphere's bumps of 1.2 r need more
+     * than 25 iterations (50: 0.40, 7.6 degrees) */
+    assert_true(sd1 <= 0.6 * sd0);
+    assert_true(a1 <= 15.0);
     assert_true(fabs(dv) <= 0.02);
     free(v0);
     free(v1);

@@ -56,6 +56,8 @@ typedef struct bench_case {
     int rss_reset;              /* 1: the RSS peak was reset before the case */
     double speedup_threads;     /* vs. the same case with 1 thread; 0 = none */
     double speedup_templates;   /* no_templates median / this median; 0 = none */
+    int flicker_frames;         /* --flicker: frames measured (0: none) */
+    double flicker_p99, flicker_max; /* their distances from translated copies, in r */
 } bench_case;
 
 /* ------------------------------------------------------------------ */
@@ -81,6 +83,7 @@ typedef struct bench_opts {
     double radius, smoothing, threshold, link;
     int threshold_given;
     int smooth_iters, smooth_normal_iters; /* post-processing, as jm_params */
+    int flicker;                           /* --flicker K: frames of the flicker figure; 0 off */
     double simplify;
     jm_params select;   /* the selection options' members (select_options.h) */
     double min_time;

@@ -138,6 +138,12 @@ static void json_case(FILE *f, const bench_opts *o, const bench_input *in, const
     json_opt(f, c->speedup_threads);
     fputs(", \"template_speedup\": ", f);
     json_opt(f, c->speedup_templates);
+    fputs(",\n     \"flicker\": ", f);
+    if (c->flicker_frames)
+        fprintf(f, "{\"frames\": %d, \"p99_r\": %.6g, \"max_r\": %.6g}", c->flicker_frames, c->flicker_p99,
+                c->flicker_max);
+    else
+        fputs("null", f);
     fputs("}", f);
 }
 

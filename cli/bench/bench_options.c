@@ -45,7 +45,7 @@ static void bench_help(FILE *f)
         "      --smoothing-length L    sph kernel length h relative to R (default 2)\n"
         "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
         "      --link-distance L       metasphere link distance relative to R (default pi)\n"
-        "      --smooth N, --smooth-normals N, --simplify E  post-processing, as convert\n"
+        "      --smooth [N], --smooth-normals [N], --simplify E  post-processing, as convert\n"
         "      --particle-aabb-min X,Y,Z, --particle-aabb-max X,Y,Z, --min-piece-particles N,\n"
         "      --min-piece-volume V, --mesh-aabb-min X,Y,Z, --mesh-aabb-max X,Y,Z,\n"
         "      --mesh-aabb-clamp-vertices  selection and clipping, as convert\n"
@@ -64,6 +64,10 @@ static void bench_help(FILE *f)
         "                              drc, ply, vtk, draco.glb) into a temporary\n"
         "                              file: the 'write' stage, not part of total\n"
         "      --write-dir DIR         where (default $TMPDIR or /tmp)\n"
+        "      --flicker K             also mesh each input K times, moved by 1/K of a\n"
+        "                              cube more each time, and measure how far each\n"
+        "                              mesh moved back lies from the first (flicker,\n"
+        "                              in R: 0 for translated copies)\n"
         "\n"
         "Output:\n"
         "      --json                  one JSON document on stdout instead of the table\n"
@@ -265,7 +269,7 @@ enum {
     B_SCENE = 256, B_FIELD, B_METHOD, B_SMOOTH, B_THRESHOLD, B_LINK, B_TEMPLATES, B_SEED,
     B_INFORMAT, B_MINTIME, B_REPEAT, B_MAXREPEAT, B_WARMUP, B_WRITE, B_WRITEDIR, B_JSON,
     B_JSONOUT, B_HELP,
-    B_POST_SMOOTH, B_POST_NSMOOTH, B_POST_SIMPLIFY
+    B_POST_SMOOTH, B_POST_NSMOOTH, B_POST_SIMPLIFY, B_FLICKER
 };
 
 static const struct option bench_long[] = {
@@ -291,10 +295,11 @@ static const struct option bench_long[] = {
     {"json-out", required_argument, 0, B_JSONOUT},
     {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, B_HELP},
-    {"smooth", required_argument, 0, B_POST_SMOOTH},
-    {"smooth-normals", required_argument, 0, B_POST_NSMOOTH},
+    {"smooth", optional_argument, 0, B_POST_SMOOTH},
+    {"smooth-normals", optional_argument, 0, B_POST_NSMOOTH},
     {"simplify", required_argument, 0, B_POST_SIMPLIFY},
     SELECT_LONG_OPTIONS,
+    {"flicker", required_argument, 0, B_FLICKER},
     {0, 0, 0, 0},
 };
 
@@ -371,13 +376,22 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case B_POST_SMOOTH:
         case B_POST_NSMOOTH: {
             long l;
-            if (cli_parse_long(optarg, 0, 100000, &l) != 0)
+            if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
+                                  c == B_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l) != 0)
                 return options_usage_error(CMD, "%s must be a whole number from 0 to 100000, not '%s'",
                                            c == B_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
             if (c == B_POST_SMOOTH)
                 o->smooth_iters = (int)l;
             else
                 o->smooth_normal_iters = (int)l;
+            break;
+        }
+        case B_FLICKER: {
+            long l;
+            if (cli_parse_long(optarg, 0, 1000, &l) != 0 || l == 1)
+                return options_usage_error(CMD, "--flicker must be 0 or a whole number of frames from 2 to 1000, "
+                                           "not '%s'", optarg);
+            o->flicker = (int)l;
             break;
         }
         case B_POST_SIMPLIFY:

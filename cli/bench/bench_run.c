@@ -1,5 +1,6 @@
 /* bench_run.c - runs one `jetmesh bench` case: loads its input, meshes it repeatedly on one context, records per-stage samples. */
 #include "bench_run.h"
+#include "bench_flicker.h"
 
 #include <dirent.h>
 #include <stdarg.h>
@@ -220,6 +221,8 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
     for (int k = 0; k < ST_COUNT; k++)
         bench_summarize(&s[k], &c->st[k]);
     c->rss_peak = platform_peak_rss();
+    if (o->flicker > 0 && bench_flicker(o, in, ctx, c) != 0)
+        goto out;
     c->ok = 1;
 out:
     bench_progress(o, NULL);

@@ -113,6 +113,11 @@ void bench_table_footer(const bench_opts *o, const bench_case *cases, size_t nca
         unreset |= cases[k].ok && !cases[k].rss_reset;
     if (unreset)
         printf("RSS peak: the kernel refused a reset, so it is the process's peak so far.\n");
+    for (size_t k = 0; k < ncases; k++)
+        if (cases[k].ok && cases[k].flicker_frames)
+            printf("flicker, case %zu: %d frames moved 1/%d cube apart, moved back: vertices from the first "
+                   "frame's surface p99 %.4f R, max %.4f R\n", k + 1, cases[k].flicker_frames,
+                   cases[k].flicker_frames, cases[k].flicker_p99, cases[k].flicker_max);
     if (failed)
         printf("%d case%s failed.\n", failed, failed == 1 ? "" : "s");
 }
