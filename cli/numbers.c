@@ -26,13 +26,23 @@ int cli_parse_long(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
-int cli_optional_long(const char *arg, int argc, char **argv, int *next, long lo, long hi, long dflt, long *out)
+int cli_optional_long(const char *arg, int argc, char **argv, int *next, long lo, long hi, long dflt, long *out,
+                      const char **out_word)
 {
+    *out_word = arg;
     if (arg) return cli_parse_long(arg, lo, hi, out);
-    /* "--opt N": getopt leaves N for the next word; take it when it is one */
-    if (*next < argc && cli_parse_long(argv[*next], lo, hi, out) == 0) {
-        ++*next;
-        return 0;
+    /* "--opt N": getopt leaves N for the next word; take it when it is a
+     * number, so that "--smooth -1" is refused with its range rather than
+     * read as an unknown option */
+    if (*next < argc) {
+        const char *w = argv[*next];
+        char *end = NULL;
+        (void)strtod(w, &end);
+        if (end != w && *end == '\0') {
+            ++*next;
+            *out_word = w;
+            return cli_parse_long(w, lo, hi, out);
+        }
     }
     *out = dflt;
     return 0;

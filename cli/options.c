@@ -385,16 +385,19 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         case O_NOCOMP: o->params.no_compensation = 1; break;
         case O_KEEPCAV: o->params.keep_cavities = 1; break;
         case O_POST_SMOOTH:
-        case O_POST_NSMOOTH:
+        case O_POST_NSMOOTH: {
+            const char *word;
             if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
-                                  c == O_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l) != 0)
+                                  c == O_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l,
+                                  &word) != 0)
                 rc = options_usage_error(cmd, "%s must be a whole number from 0 to 100000, not '%s'",
-                                         c == O_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
+                                         c == O_POST_SMOOTH ? "--smooth" : "--smooth-normals", word);
             else if (c == O_POST_SMOOTH)
                 o->params.smooth_iterations = (int)l;
             else
                 o->params.smooth_normal_iterations = (int)l;
             break;
+        }
         case O_POST_SIMPLIFY:
             if (cli_parse_double(optarg, &d) != 0 || !(d >= 0) || d > 1000)
                 rc = options_usage_error(cmd, "--simplify must be a number from 0 to 1000, not '%s'", optarg);

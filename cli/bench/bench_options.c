@@ -376,10 +376,12 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
         case B_POST_SMOOTH:
         case B_POST_NSMOOTH: {
             long l;
+            const char *word;
             if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
-                                  c == B_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l) != 0)
+                                  c == B_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l,
+                                  &word) != 0)
                 return options_usage_error(CMD, "%s must be a whole number from 0 to 100000, not '%s'",
-                                           c == B_POST_SMOOTH ? "--smooth" : "--smooth-normals", optarg);
+                                           c == B_POST_SMOOTH ? "--smooth" : "--smooth-normals", word);
             if (c == B_POST_SMOOTH)
                 o->smooth_iters = (int)l;
             else
