@@ -125,6 +125,8 @@ if grep -Eiq 'inf|nan' "$T/merged.json"; then fail "stats merge: a non-finite nu
 echo "ok: only finite numbers in the outputs"
 
 # 9. every numeric option's message names the range it accepts
+# (--smooth and --smooth-normals take an optional number: a word after them
+# is theirs only when it is a number, so their non-numbers are given with =)
 range_named() { # command option-and-value...
     cmd=$1; shift
     # shellcheck disable=SC2086
@@ -135,7 +137,7 @@ range_named() { # command option-and-value...
         { cat "$T/err"; fail "$cmd $*: the message names no range"; }
 }
 for a in "-r 1e35" "-c x" "--threshold x" "--smoothing-length x" "--link-distance 0" "-j 99999" \
-    "--uv-scale 0" "--smooth -1" "--smooth-normals x" "--simplify -1" "--draco-position-bits 0" \
+    "--uv-scale 0" "--smooth -1" "--smooth-normals=x" "--smooth-normals 1e9" "--simplify -1" "--draco-position-bits 0" \
     "--draco-normal-bits 99" "--draco-uv-bits x" "--frame-jobs 99" "--max-memory x" \
     "--anisotropic-radius 0" "--fps 0" "--time-step 0" "--frames x" "--shard 1/x"; do
     # shellcheck disable=SC2086
@@ -146,7 +148,7 @@ for a in "-r 0" "--seed x" "block x"; do
     range_named generate $a -o "$T/g.csv"
 done
 for a in "-r 0" "-c 0" "-j 99999" "--smoothing-length 0" "--link-distance 0" "--threshold x" "--seed x" \
-    "--min-time -1" "--repeat 0" "--max-repeat 0" "--warmup 0" "--smooth x" "--simplify x" "block:x"; do
+    "--min-time -1" "--repeat 0" "--max-repeat 0" "--warmup 0" "--smooth=x" "--smooth -5" "--simplify x" "block:x"; do
     # shellcheck disable=SC2086
     range_named bench $a
 done
