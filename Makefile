@@ -128,7 +128,7 @@ kill-soak: tests-build
 	    JETMESH_BUILD=$(CURDIR)/$(BUILD) sh tests/t_cli_kill_race.sh
 
 # The README's pictures (docs/*.png), rendered by headless Blender.
-pictures: all
+pictures: all $(BUILD)/tools/to_xyz
 	@scripts/pictures.sh $(BUILD)
 
 # The main job: convert the shipped jet sequence (see README). Installs the

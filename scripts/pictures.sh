@@ -1,5 +1,5 @@
 #!/bin/sh
-# pictures.sh - renders the README's pictures (docs/*.png) with headless Blender: the demo frame and the jet, before and after smoothing.
+# pictures.sh - renders the README's pictures (docs/*.png) with headless Blender: a real splash frame (beside splashsurf's) and the jet.
 # Usage: scripts/pictures.sh [BUILD_DIR]   (run by `make pictures`; a few minutes on 2 cores)
 set -e
 BUILD=${1:-build}
@@ -20,7 +20,18 @@ R=samples/real/double_dam_break_frame_26_4732_particles.vtk
 "$J" convert "$R" -r 0.025 -q -o "$W/db_default.glb"
 "$J" convert "$R" -r 0.025 --smooth 25 --smooth-normals 10 -q -o "$W/db_smooth.glb"
 "$J" convert "$R" -r 0.025 --anisotropic -q -o "$W/db_aniso.glb"
-render docs/dam_break.png 1400x420 "$W/db_default.glb" "$W/db_smooth.glb" "$W/db_aniso.glb"
+# splashsurf 0.14 with its recommended post-processing, same field and cube size (issue 31),
+# where ../shared has the peer; without it the picture has jetmesh's three panels only
+SS=${JETMESH_SHARED:-../shared}/peers/splashsurf/ssbench
+if [ -x "$SS" ] && [ -x "$BUILD/tools/to_xyz" ]; then
+    "$BUILD/tools/to_xyz" "$R" "$W/db.xyz"
+    "$SS" "$W/db.xyz" -r 0.025 -s 0.0125 --mesh-cleanup --mesh-smoothing-weights --mesh-smoothing-iters 25 \
+        --normals --normals-smoothing-iters 10 -o "$W/db_ss.obj" >/dev/null
+    render docs/dam_break.png 1600x360 "$W/db_default.glb" "$W/db_smooth.glb" "$W/db_aniso.glb" "$W/db_ss.obj"
+else
+    echo "pictures: no splashsurf peer (../shared/peers/splashsurf): three panels only" >&2
+    render docs/dam_break.png 1400x420 "$W/db_default.glb" "$W/db_smooth.glb" "$W/db_aniso.glb"
+fi
 "$J" convert samples/jet/jet_099.csv -r 0.025 -q -o "$W/jet_default.glb"
 "$J" convert samples/jet/jet_099.csv -r 0.025 --smooth 25 --smooth-normals 10 -q -o "$W/jet_smooth.glb"
 render docs/jet.png 1200x300 --xfrac 0.55:0.85 --view front "$W/jet_default.glb"
