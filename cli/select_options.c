@@ -27,6 +27,14 @@ void select_help(FILE *f)
           f);
 }
 
+void select_help_brief(FILE *f)
+{
+    fputs("      --particle-aabb-min X,Y,Z, --particle-aabb-max X,Y,Z, --min-piece-particles N,\n"
+          "      --min-piece-volume V, --mesh-aabb-min X,Y,Z, --mesh-aabb-max X,Y,Z,\n"
+          "      --mesh-aabb-clamp-vertices  selection and clipping, as convert\n",
+          f);
+}
+
 /* "X,Y,Z": three finite numbers. 0 or -1. */
 static int parse_xyz(const char *arg, float out[3])
 {

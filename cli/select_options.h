@@ -51,4 +51,6 @@ void select_copy(jm_params *dst, const jm_params *src);
 
 /* convert's --help lines of these options. */
 void select_help(FILE *f);
+/* bench's: the options named, "as convert". */
+void select_help_brief(FILE *f);
 #endif
