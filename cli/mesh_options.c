@@ -106,6 +106,31 @@ static const mesh_option table[] = {
     {"simplify", MO_SIMPLIFY, MO_FLOAT, BOTH, 0, 1000, 0, "from 0 to 1000", NULL, M(simplify_error),
      {0, 0, 0, NULL}, NULL,
      "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n", NULL},
+    /* selection and clipping: select_options.c reads them */
+    {"particle-aabb-min", SO_PAABB_MIN, MO_SELECT, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL},
+     "\nSelection and clipping (off by default; boxes in world units):\n",
+     "      --particle-aabb-min X,Y,Z  with --particle-aabb-max X,Y,Z: mesh only the\n"
+     "                              particles inside this box\n",
+     "      --particle-aabb-min X,Y,Z, --particle-aabb-max X,Y,Z, --min-piece-particles N,\n"
+     "      --min-piece-volume V, --mesh-aabb-min X,Y,Z, --mesh-aabb-max X,Y,Z,\n"
+     "      --mesh-aabb-clamp-vertices  selection and clipping, as convert\n"},
+    {"particle-aabb-max", SO_PAABB_MAX, MO_SELECT, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL}, NULL, NULL, NULL},
+    {"min-piece-particles", SO_MIN_PARTICLES, MO_SELECT, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL}, NULL,
+     "      --min-piece-particles N  leave out groups of fewer than N particles\n"
+     "                              (stray droplets; one group: particles within the\n"
+     "                              link distance, sph: the kernel support, 4 R)\n", NULL},
+    {"min-piece-volume", SO_MIN_VOLUME, MO_SELECT, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL}, NULL,
+     "      --min-piece-volume V    remove mesh pieces enclosing less than V R^3 (one\n"
+     "                              particle's ball: 4.19) after post-processing\n", NULL},
+    {"mesh-aabb-min", SO_MAABB_MIN, MO_SELECT, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL}, NULL,
+     "      --mesh-aabb-min X,Y,Z   with --mesh-aabb-max X,Y,Z: clip the mesh to this\n"
+     "                              box, last: triangles with a corner outside are\n"
+     "                              removed, the mesh is open along the cut (a\n"
+     "                              tank's walls removed)\n", NULL},
+    {"mesh-aabb-max", SO_MAABB_MAX, MO_SELECT, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL}, NULL, NULL, NULL},
+    {"mesh-aabb-clamp-vertices", SO_MAABB_CLAMP, MO_SELECT_FLAG, BOTH, 0, 0, 0, NULL, NULL, 0, {0, 0, 0, NULL}, NULL,
+     "      --mesh-aabb-clamp-vertices  close the cut instead: the vertices outside\n"
+     "                              move onto the box, the mesh stays closed\n", NULL},
 };
 #define NOPTS (sizeof table / sizeof table[0])
 
@@ -125,7 +150,9 @@ void mesh_options_long(unsigned cmd, struct option *out, size_t *n)
         const mesh_option *o = &table[i];
         if (!(o->cmds & cmd))
             continue;
-        int arg = o->kind == MO_FLAG ? no_argument : o->kind == MO_COUNT ? optional_argument : required_argument;
+        int arg = o->kind == MO_FLAG || o->kind == MO_SELECT_FLAG ? no_argument
+                  : o->kind == MO_COUNT                          ? optional_argument
+                                                                 : required_argument;
         out[(*n)++] = (struct option){o->name, arg, 0, o->key};
     }
 }
@@ -189,6 +216,8 @@ int mesh_option_value(const mesh_option *o, unsigned cmd, const char *arg, int a
         if (options_parse_size(arg, &v->z) != 0)
             return options_usage_error(cmdname, "--%s must be %s, not '%s'", o->name, o->range, arg);
         return OPTIONS_RUN;
+    case MO_SELECT:
+    case MO_SELECT_FLAG: break; /* select_option() */
     }
     return options_usage_error(cmdname, "internal: option --%s has no kind", o->name);
 }
@@ -212,6 +241,8 @@ void mesh_option_store(const mesh_option *o, const mo_value *v, jm_params *p)
         break;
     }
     case MO_SIZE: memcpy(at, &v->z, sizeof v->z); break;
+    case MO_SELECT:
+    case MO_SELECT_FLAG: break;
     }
 }
 

@@ -8,6 +8,7 @@
 
 #include "../lib/jetmesh.h"
 #include "names.h"
+#include "select_options.h"
 
 /* getopt_long's values of the options without a letter (select_options.h
  * takes 600 and up) */
@@ -25,7 +26,9 @@ typedef enum {
     MO_WHOLE,  /* a whole number in [lo, hi]: an int member */
     MO_COUNT,  /* a whole number in [lo, hi] that may be left out (dflt): an int member */
     MO_NAME,   /* a name of the table names: an int-sized (enum) member */
-    MO_SIZE    /* a size (options_parse_size): a size_t member */
+    MO_SIZE,   /* a size (options_parse_size): a size_t member */
+    MO_SELECT, /* a selection option with an argument: select_option() reads it */
+    MO_SELECT_FLAG /* one without */
 } mo_kind;
 
 /* What bench does differently (bench's lists are checked loosely: the
@@ -64,13 +67,20 @@ const mesh_option *mesh_option_find(int key);
 
 /* Appends cmd's options to a getopt_long table at out[*n] (room for
  * MESH_OPTIONS_MAX entries). */
-#define MESH_OPTIONS_MAX 32
+#define MESH_OPTIONS_MAX 40
 void mesh_options_long(unsigned cmd, struct option *out, size_t *n);
 
 /* Reads one value of option o for cmd from arg (bench: one item of a
  * list). MO_COUNT reads the next word of argv when it is a number
  * (cli_optional_long). OPTIONS_RUN, or a usage error (printed). */
 int mesh_option_value(const mesh_option *o, unsigned cmd, const char *arg, int argc, char **argv, mo_value *v);
+
+/* 1 if o is a selection or clipping option (select_options.h reads them,
+ * checking them together at the end). */
+static inline int mesh_option_is_select(const mesh_option *o)
+{
+    return o->kind == MO_SELECT || o->kind == MO_SELECT_FLAG;
+}
 
 /* Stores v into p's member of o. */
 void mesh_option_store(const mesh_option *o, const mo_value *v, jm_params *p);

@@ -77,8 +77,6 @@ void options_convert_help(FILE *f)
         "\n",
         f);
     mesh_options_help(f, CLI_CONVERT, NULL);
-    fputs("\n", f);
-    select_help(f);
     fputs("\n"
         "Input and output:\n"
         "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
@@ -200,7 +198,6 @@ static const struct option convert_own[] = {
     {"time-step", required_argument, 0, O_TIMESTEP},
     {"pvd", no_argument, 0, O_PVD},
     {"attributes", required_argument, 0, O_ATTRS},
-    SELECT_LONG_OPTIONS,
 };
 #define NOWN (sizeof convert_own / sizeof convert_own[0])
 
@@ -234,11 +231,14 @@ static int bits(const char *cmd, const char *name, const char *arg, int *out)
 #define NOT_MINE 1000
 
 /* A meshing option (mesh_options.c), and what convert notes of it. */
-static int convert_mesh_option(convert_options *o, int c, int argc, char **argv, int *radius_given)
+static int convert_mesh_option(convert_options *o, int c, int argc, char **argv, int *radius_given,
+                               select_given *sel)
 {
     const mesh_option *m = mesh_option_find(c);
     if (!m)
         return NOT_MINE;
+    if (mesh_option_is_select(m))
+        return select_option("convert", c, optarg, &o->params, sel);
     int rc = mesh_option_parse(m, CLI_CONVERT, optarg, argc, argv, &o->params);
     if (c == 'r')
         *radius_given = 1;
@@ -417,7 +417,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
             printf("jetmesh %s\n", JM_VERSION_STRING);
             return OPTIONS_DONE;
         }
-        rc = convert_mesh_option(o, c, argc, argv, &radius_given);
+        rc = convert_mesh_option(o, c, argc, argv, &radius_given, &sel);
         if (rc == NOT_MINE)
             rc = convert_output_option(o, c);
         if (rc == NOT_MINE)
@@ -425,8 +425,7 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
         if (rc == NOT_MINE)
             rc = convert_sequence_option(o, c);
         if (rc == NOT_MINE)
-            rc = select_is_option(c) ? select_option(cmd, c, optarg, &o->params, &sel)
-                                     : getopt_problem(cmd, c, argv);
+            rc = getopt_problem(cmd, c, argv);
     }
     if (rc == OPTIONS_RUN)
         rc = select_finish(cmd, &o->params, &sel);

@@ -21,8 +21,8 @@
 
 /* The meshing options in bench's --help, in this order. */
 static const char *const mesh_names[] = {"field", "method", "radius", "cube-size", "smoothing-length",
-                                         "threshold", "link-distance", "smooth", NULL};
-static const char *const threads_name[] = {"threads", NULL};
+                                         "threshold", "link-distance", "smooth", "particle-aabb-min",
+                                         "threads", NULL};
 
 static void bench_help(FILE *f)
 {
@@ -44,8 +44,6 @@ static void bench_help(FILE *f)
         "      --scene SCENE           add a scene (repeatable; same as the operand)\n",
         f);
     mesh_options_help(f, CLI_BENCH, mesh_names);
-    select_help_brief(f);
-    mesh_options_help(f, CLI_BENCH, threads_name);
     fputs(
         "      --templates auto|on|off|both  sphere templates for isolated particles\n"
         "                              (auto: both for spray scenes, on otherwise)\n"
@@ -259,7 +257,6 @@ static const struct option bench_own[] = {
     {"json-out", required_argument, 0, B_JSONOUT},
     {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, B_HELP},
-    SELECT_LONG_OPTIONS,
     {"flicker", required_argument, 0, B_FLICKER},
 };
 #define NOWN (sizeof bench_own / sizeof bench_own[0])
@@ -315,11 +312,13 @@ static int input_option(bench_opts *o, parse_state *st, int c)
 }
 
 /* A meshing option (mesh_options.c): a list, or a value of o->params. */
-static int meshing_option(bench_opts *o, int c, int argc, char **argv)
+static int meshing_option(bench_opts *o, parse_state *st, int c, int argc, char **argv)
 {
     const mesh_option *m = mesh_option_find(c);
     if (!m || !(m->cmds & CLI_BENCH))
         return NOT_MINE;
+    if (mesh_option_is_select(m))
+        return select_option(CMD, c, optarg, &o->params, &st->sel);
     if (m->bench.list)
         return each_item(o, m, optarg);
     mo_value v;
@@ -407,13 +406,11 @@ static int timing_option(bench_opts *o, int c)
     }
 }
 
-/* getopt's problems, and the options that are not bench's. */
-static int other_option(bench_opts *o, parse_state *st, int c, char **argv)
+/* getopt's problems: a missing value, an option that is not bench's. */
+static int getopt_problem(int c, char **argv)
 {
     if (c == ':')
         return options_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-    if (select_is_option(c))
-        return select_option(CMD, c, optarg, &o->params, &st->sel);
     if (optopt)
         return options_usage_error(CMD, "unknown option '-%c'", optopt);
     return options_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
@@ -484,13 +481,13 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
             bench_help(stdout);
             return OPTIONS_DONE;
         }
-        rc = c == 1 || c == B_SCENE ? input_option(o, &st, c) : meshing_option(o, c, argc, argv);
+        rc = c == 1 || c == B_SCENE ? input_option(o, &st, c) : meshing_option(o, &st, c, argc, argv);
         if (rc == NOT_MINE)
             rc = case_option(o, c);
         if (rc == NOT_MINE)
             rc = timing_option(o, c);
         if (rc == NOT_MINE)
-            rc = other_option(o, &st, c, argv);
+            rc = getopt_problem(c, argv);
     }
     if (rc != OPTIONS_RUN)
         return rc;
