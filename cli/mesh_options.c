@@ -3,7 +3,6 @@
 
 #include <float.h>
 #include <math.h>
-#include <stdint.h>
 #include <string.h>
 
 #include "numbers.h"
@@ -135,6 +134,8 @@ static const mesh_option table[] = {
 #define NOPTS (sizeof table / sizeof table[0])
 
 _Static_assert(NOPTS <= MESH_OPTIONS_MAX, "MESH_OPTIONS_MAX too small");
+_Static_assert(sizeof(jm_field) == sizeof(int) && sizeof(jm_method) == sizeof(int) && sizeof(jm_uv_mode) == sizeof(int),
+               "MO_NAME stores an int");
 
 const mesh_option *mesh_option_find(int key)
 {
