@@ -11,7 +11,10 @@
 #define BOTH (CLI_CONVERT | CLI_BENCH)
 #define M(member) offsetof(jm_params, member)
 /* The smallest length an option takes: a normal float (0 would mean "the
- * default"; subnormals lose their digits), as jetmesh(1) LIMITS says. */
+ * default"; subnormals lose their digits), as jetmesh(1) LIMITS says. A
+ * length's message names the range the library accepts (issue 30); the CLI
+ * refuses only what is outside [LEN_MIN, LEN_MAX], the library checks the
+ * rest (jm_params_check, worded by param_errors_describe). */
 #define LEN_MIN 1.2e-38
 #define LEN_MAX 1e30
 /* bench's lists: any positive number up to 1e6 (the library refuses the rest per case) */

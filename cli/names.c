@@ -22,8 +22,8 @@ const cli_name cli_methods[] = {
 
 const cli_name cli_uv_modes[] = {
     {"box", "box", JM_UV_BOX, CLI_CONVERT},
-    {"planar", "plan", JM_UV_PLANAR, CLI_CONVERT},
-    {"spherical", "sphe", JM_UV_SPHERICAL, CLI_CONVERT},
+    {"planar", "planar", JM_UV_PLANAR, CLI_CONVERT},
+    {"spherical", "spherical", JM_UV_SPHERICAL, CLI_CONVERT},
     {"none", "none", JM_UV_NONE, CLI_CONVERT},
     {NULL, NULL, 0, 0},
 };
@@ -81,7 +81,7 @@ const char *cli_field_column(jm_field f)
     for (const cli_name *t = cli_fields; t->name; t++)
         if (f != JM_FIELD_DEFAULT && t->value == (int)f)
             return t->column;
-    return cli_fields[1].column;
+    return f == JM_FIELD_METASPHERE ? "?" : cli_field_column(JM_FIELD_METASPHERE);
 }
 
 const char *cli_method_name(jm_method m)

@@ -18,7 +18,7 @@
 /* One value's name. A table ends with a NULL name. */
 typedef struct cli_name {
     const char *name;   /* as given and printed: "metasphere" */
-    const char *column; /* bench's table column (4 characters at most) */
+    const char *column; /* bench's table column (4 characters at most; fields only) */
     int value;          /* JM_FIELD_*, JM_METHOD_*, ... */
     unsigned cmds;      /* CLI_CONVERT | CLI_BENCH: who accepts it */
 } cli_name;
