@@ -86,7 +86,12 @@ $(CLI): $(CLI_OBJ) $(FMTA) $(LIBA)
 
 $(BUILD)/bin/%: $(BUILD)/tests/%.o $(TUTIL_OBJ) $(FMTA) $(LIBA)
 	@mkdir -p $(dir $@)
-	$(CC) $(SAN) -o $@ $< $(TUTIL_OBJ) $(FMTA) $(LIBA) -lcmocka $(LIBS)
+	$(CC) $(SAN) -o $@ $< $(TEST_OBJ) $(TUTIL_OBJ) $(FMTA) $(LIBA) -lcmocka $(LIBS)
+
+# the CLI's text readers, tested alone
+TEXT_OBJ := $(patsubst %.c,$(BUILD)/%.o,$(wildcard cli/text/*.c))
+$(BUILD)/bin/test_text_read: TEST_OBJ = $(TEXT_OBJ)
+$(BUILD)/bin/test_text_read: $(TEXT_OBJ)
 
 $(BUILD)/tools/%: $(BUILD)/tests/tools/%.o $(TUTIL_OBJ) $(FMTA) $(LIBA)
 	@mkdir -p $(dir $@)

@@ -17,6 +17,7 @@
 #include "domain_advice.h"
 #include "farm.h"
 #include "inputs.h"
+#include "names.h"
 #include "options.h"
 #include "param_errors.h"
 #include "select_options.h"
@@ -436,11 +437,6 @@ static void print_path(FILE *f, const char *s)
     }
 }
 
-static const char *field_name(jm_field f)
-{
-    return f == JM_FIELD_SPH ? "sph" : "metasphere";
-}
-
 static const char *uv_name(jm_uv_mode m)
 {
     switch (m) {
@@ -518,8 +514,8 @@ static void print_params(const run *r)
     char mem[32];
     jm_context_get_params(r->ctx, &p);
     printf("jetmesh %s: %zu frames; radius %g, cube size %g r, field %s, method %s (%s", jm_version(),
-           r->njobs, (double)p.radius, (double)p.cube_size, field_name(p.field),
-           p.method == JM_METHOD_MC ? "mc" : "mt", choice_name(r));
+           r->njobs, (double)p.radius, (double)p.cube_size, cli_field_name(p.field),
+           cli_method_name(p.method), choice_name(r));
     if (r->neighbours >= 0)
         printf(": %.2f neighbours in frame %ld", (double)r->neighbours, r->choice_frame);
     printf("), threshold %g, ", (double)p.threshold);
@@ -990,8 +986,8 @@ static void write_reports(run *r, double wall_ms)
     stats_summarize(&r->log, wall_ms, &sum);
     jm_params p;
     jm_context_get_params(r->ctx, &p);
-    sum.field = field_name(p.field);
-    sum.method = p.method == JM_METHOD_MC ? "mc" : "mt";
+    sum.field = cli_field_name(p.field);
+    sum.method = cli_method_name(p.method);
     sum.field_choice = choice_name(r);
     sum.neighbours = r->neighbours;
     if (r->o->stats_path)

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "mesh_options.h"
 #include "platform.h"
 #include "scenes.h"
 #include "select_options.h"
@@ -73,48 +74,9 @@ void options_convert_help(FILE *f)
         "- is standard input (CSV or XYZ there need --input-format).\n"
         "OUTPUT: a file (one frame), a template with {} or %04d (the frame number), or\n"
         "a directory (several frames: DIR/<input name>.<ext>, ext from --format, else glb).\n"
-        "\n"
-        "Meshing:\n"
-        "  -r, --radius R              particle radius in world units (required)\n"
-        "  -c, --cube-size C           lattice cube edge, relative to R (default 0.5)\n"
-        "      --field auto|metasphere|sph  implicit function (default auto: metasphere\n"
-        "                              for sparse frames such as jets and spray, sph\n"
-        "                              for bulk fluid, chosen once from the first frame)\n"
-        "      --method mt|mc          marching tetrahedra or cubes (default mt with the\n"
-        "                              metasphere, mc with sph)\n"
-        "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
-        "      --smoothing-length L    sph kernel length h, relative to R (default 2)\n"
-        "      --link-distance L       metasphere neck link distance, relative to R (default pi)\n"
-        "  -j, --threads N             worker threads; 0 = all cores (default 0)\n"
-        "      --uv box|planar|spherical|none  texture coordinates (default box)\n"
-        "      --uv-scale S            world units per texture repeat (default 16 R;\n"
-        "                              at least 1e-6 R)\n"
-        "      --no-normals            write no normals\n"
-        "      --no-templates          mesh isolated particles through the lattice too\n"
-        "      --uv-axis x|y|z         --uv planar: the projection axis (default z)\n"
-        "      --keep-cavities         keep closed inner shells smaller than a particle\n"
-        "                              (removed by default: sub-particle bubbles)\n"
-        "      --no-compensation       metasphere: leave vertices on the surface (no\n"
-        "                              chord-sag offset; the mesh is then a bit small)\n"
-        "      --exact-surface         accepted for old scripts: metasphere vertices are\n"
-        "                              now always on the exact surface (no effect)\n"
-        "      --max-memory SIZE       refuse frames needing more (e.g. 2G, 500M; 0 = no\n"
-        "                              limit; default half the physical memory)\n"
-        "      --anisotropic           sph: Yu-Turk anisotropic kernels on smoothed centres:\n"
-        "                              flat surfaces look like liquid, not particles\n"
-        "                              (slower; for final renders of --field sph)\n"
-        "      --anisotropic-radius N  its neighbourhood radius, relative to R (default 8)\n"
-        "\n"
-        "Post-processing (off by default; in this order):\n"
-        "      --smooth [N]            N iterations of Laplacian smoothing (default 25,\n"
-        "                              as splashsurf's 25): bumps of particle size\n"
-        "                              removed, no point moved over 0.5 R along its\n"
-        "                              normal, each piece's volume restored\n"
-        "      --smooth-normals [N]    N iterations of normal smoothing (default 10)\n"
-        "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n"
         "\n",
         f);
-    select_help(f);
+    mesh_options_help(f, CLI_CONVERT, NULL);
     fputs("\n"
         "Input and output:\n"
         "      --input-format auto|csv|xyz|vtk|vtu|bgeo|ply  (default auto)\n"
@@ -197,10 +159,8 @@ void options_generate_help(FILE *f)
 }
 
 enum {
-    O_FIELD = 256, O_METHOD, O_THRESHOLD, O_SMOOTH, O_LINK, O_UV, O_UVSCALE, O_NONORMALS,
-    O_NOTEMPLATES, O_UVAXIS, O_NOCOMP, O_KEEPCAV, O_FORMAT, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
-    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_MAXMEM, O_HELP, O_VERSION, O_SEED,
-    O_ANISO, O_ANISO_RADIUS, O_POST_SMOOTH, O_POST_NSMOOTH, O_POST_SIMPLIFY, O_EXACT,
+    O_FORMAT = 256, O_DRACO, O_EMBED, O_ZUP, O_DPOS, O_DNORM, O_DUV, O_INFORMAT,
+    O_FRAMES, O_FRAMEJOBS, O_NOSYNC, O_STATS, O_STATSSVG, O_DROP, O_KEEP, O_RESUME, O_HELP, O_VERSION, O_SEED,
     /* sequences for Blender, ParaView and the web */
     O_ANIMATE = 500, O_FPS, O_TIMESTEP, O_PVD, O_ATTRS
 };
@@ -208,24 +168,9 @@ enum {
 /* options of the cluster block (see SHARDS in jetmesh(1)) */
 enum { O_SHARD = 400 };
 
-static const struct option convert_long[] = {
+/* convert's own options; the meshing options come from mesh_options.c */
+static const struct option convert_own[] = {
     {"shard", required_argument, 0, O_SHARD},
-    {"radius", required_argument, 0, 'r'},
-    {"cube-size", required_argument, 0, 'c'},
-    {"field", required_argument, 0, O_FIELD},
-    {"method", required_argument, 0, O_METHOD},
-    {"threshold", required_argument, 0, O_THRESHOLD},
-    {"smoothing-length", required_argument, 0, O_SMOOTH},
-    {"link-distance", required_argument, 0, O_LINK},
-    {"threads", required_argument, 0, 'j'},
-    {"uv", required_argument, 0, O_UV},
-    {"uv-scale", required_argument, 0, O_UVSCALE},
-    {"no-normals", no_argument, 0, O_NONORMALS},
-    {"no-templates", no_argument, 0, O_NOTEMPLATES},
-    {"uv-axis", required_argument, 0, O_UVAXIS},
-    {"no-compensation", no_argument, 0, O_NOCOMP},
-    {"keep-cavities", no_argument, 0, O_KEEPCAV},
-    {"exact-surface", no_argument, 0, O_EXACT},
     {"output", required_argument, 0, 'o'},
     {"format", required_argument, 0, O_FORMAT},
     {"draco", no_argument, 0, O_DRACO},
@@ -243,12 +188,6 @@ static const struct option convert_long[] = {
     {"no-sync", no_argument, 0, O_NOSYNC},
     {"frame-jobs", required_argument, 0, O_FRAMEJOBS},
     {"resume", no_argument, 0, O_RESUME},
-    {"max-memory", required_argument, 0, O_MAXMEM},
-    {"anisotropic", no_argument, 0, O_ANISO},
-    {"anisotropic-radius", required_argument, 0, O_ANISO_RADIUS},
-    {"smooth", optional_argument, 0, O_POST_SMOOTH},
-    {"smooth-normals", optional_argument, 0, O_POST_NSMOOTH},
-    {"simplify", required_argument, 0, O_POST_SIMPLIFY},
     {"quiet", no_argument, 0, 'q'},
     {"verbose", no_argument, 0, 'v'},
     {"help", no_argument, 0, O_HELP},
@@ -259,9 +198,8 @@ static const struct option convert_long[] = {
     {"time-step", required_argument, 0, O_TIMESTEP},
     {"pvd", no_argument, 0, O_PVD},
     {"attributes", required_argument, 0, O_ATTRS},
-    SELECT_LONG_OPTIONS,
-    {0, 0, 0, 0},
 };
+#define NOWN (sizeof convert_own / sizeof convert_own[0])
 
 /* The message for getopt's '?' and ':' results. */
 static int getopt_problem(const char *cmd, int c, char **argv)
@@ -274,25 +212,11 @@ static int getopt_problem(const char *cmd, int c, char **argv)
     return options_usage_error(cmd, "unknown option '%s'", arg);
 }
 
-/* The smallest length an option takes: a normal float (0 would mean "the
- * default"; subnormals lose their digits), as jetmesh(1) LIMITS says. */
+/* --radius of generate: a normal float (jetmesh(1) LIMITS) */
 #define LEN_MIN 1.2e-38
 /* --fps: the frame numbers (up to 18 digits) over it stay finite floats */
 #define FPS_MIN 0.001
 #define LEN_MAX 1e30
-
-/* A length: a normal float up to LEN_MAX, else a usage error naming the
- * option's range (issue 30: every numeric option's message names what it
- * accepts); the library checks the rest of that range (jm_params_check,
- * worded by param_errors_describe). */
-static int length(const char *cmd, const char *name, const char *arg, const char *range, float *out)
-{
-    double v;
-    if (cli_parse_double(arg, &v) != 0 || !(v >= LEN_MIN) || !(v <= LEN_MAX))
-        return options_usage_error(cmd, "%s must be a number from %s, not '%s'", name, range, arg);
-    *out = (float)v;
-    return OPTIONS_RUN;
-}
 
 static int bits(const char *cmd, const char *name, const char *arg, int *out)
 {
@@ -303,216 +227,136 @@ static int bits(const char *cmd, const char *name, const char *arg, int *out)
     return OPTIONS_RUN;
 }
 
-int options_parse_convert(int argc, char **argv, convert_options *o)
+/* The value a handler returns for an option that is not its own. */
+#define NOT_MINE 1000
+
+/* A meshing option (mesh_options.c), and what convert notes of it. */
+static int convert_mesh_option(convert_options *o, int c, int argc, char **argv, int *radius_given,
+                               select_given *sel)
+{
+    const mesh_option *m = mesh_option_find(c);
+    if (!m)
+        return NOT_MINE;
+    if (mesh_option_is_select(m))
+        return select_option("convert", c, optarg, &o->params, sel);
+    int rc = mesh_option_parse(m, CLI_CONVERT, optarg, argc, argv, &o->params);
+    if (c == 'r')
+        *radius_given = 1;
+    else if (c == MO_FIELD)
+        o->field_auto = strcmp(optarg, "auto") == 0;
+    else if (c == MO_THRESHOLD)
+        o->threshold_given = 1;
+    return rc;
+}
+
+/* -o and the options of the written file. */
+static int convert_output_option(convert_options *o, int c)
 {
     const char *cmd = "convert";
-    memset(o, 0, sizeof *o);
-    o->max_memory = options_default_max_memory();
-    o->field_auto = 1;
-    int radius_given = 0, rc = OPTIONS_RUN;
-    select_given sel = {0, 0, 0, 0};
-    optind = 0; /* GNU: full reinitialisation */
-    opterr = 0;
-    int c;
-    while (rc == OPTIONS_RUN &&
-           (c = getopt_long(argc, argv, ":r:c:j:o:qv", convert_long, NULL)) != -1) {
-        double d = 0;
-        long l = 0;
-        int k;
-        switch (c) {
-        case 'r':
-            rc = length(cmd, "--radius", optarg, "1.2e-38 to 1e+30", &o->params.radius);
-            radius_given = 1;
-            break;
-        case 'c': rc = length(cmd, "--cube-size", optarg, "0.001 to 100 (times R)", &o->params.cube_size); break;
-        case O_FIELD:
-            o->field_auto = 0;
-            if (strcmp(optarg, "metasphere") == 0)
-                o->params.field = JM_FIELD_METASPHERE;
-            else if (strcmp(optarg, "sph") == 0)
-                o->params.field = JM_FIELD_SPH;
-            else if (strcmp(optarg, "auto") == 0) {
-                o->params.field = JM_FIELD_DEFAULT;
-                o->field_auto = 1;
-            } else
-                rc = options_usage_error(cmd, "--field is auto, metasphere or sph, not '%s'", optarg);
-            break;
-        case O_METHOD:
-            if (strcmp(optarg, "mt") == 0)
-                o->params.method = JM_METHOD_MT;
-            else if (strcmp(optarg, "mc") == 0)
-                o->params.method = JM_METHOD_MC;
-            else
-                rc = options_usage_error(cmd, "--method is mt or mc, not '%s'", optarg);
-            break;
-        case O_THRESHOLD:
-            if (cli_parse_double(optarg, &d) != 0 || (d != 0.0 && fabs(d) < LEN_MIN))
-                rc = options_usage_error(cmd, "--threshold must be a number above -1 and below 1 for the "
-                                         "metasphere, above 0 for sph (0: the field's default; else at least "
-                                         "%g in size), not '%s'", LEN_MIN, optarg);
-            o->params.threshold = (float)d;
-            o->threshold_given = 1;
-            break;
-        case O_SMOOTH:
-            rc = length(cmd, "--smoothing-length", optarg, "0.05 to 100 (times R)", &o->params.smoothing_length);
-            break;
-        case O_LINK:
-            rc = length(cmd, "--link-distance", optarg, "1.2e-38 to 1e+30 (times R)", &o->params.link_distance);
-            break;
-        case 'j':
-            if (cli_parse_long(optarg, 0, 4096, &l) != 0)
-                rc = options_usage_error(cmd, "--threads must be a whole number from 0 to 4096, not '%s'",
-                                         optarg);
-            o->params.threads = (int)l;
-            break;
-        case O_UV:
-            if (strcmp(optarg, "box") == 0)
-                o->params.uv_mode = JM_UV_BOX;
-            else if (strcmp(optarg, "planar") == 0)
-                o->params.uv_mode = JM_UV_PLANAR;
-            else if (strcmp(optarg, "spherical") == 0)
-                o->params.uv_mode = JM_UV_SPHERICAL;
-            else if (strcmp(optarg, "none") == 0)
-                o->params.uv_mode = JM_UV_NONE;
-            else
-                rc = options_usage_error(cmd, "--uv is box, planar, spherical or none, not '%s'", optarg);
-            break;
-        case O_UVSCALE:
-            rc = length(cmd, "--uv-scale", optarg, "1e-06 R to 1e+30 (world units)", &o->params.uv_scale);
-            break;
-        case O_NONORMALS: o->params.no_normals = 1; break;
-        case O_NOTEMPLATES: o->params.no_templates = 1; break;
-        case O_NOCOMP: o->params.no_compensation = 1; break;
-        case O_KEEPCAV: o->params.keep_cavities = 1; break;
-        case O_POST_SMOOTH:
-        case O_POST_NSMOOTH: {
-            const char *word;
-            if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
-                                  c == O_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l,
-                                  &word) != 0)
-                rc = options_usage_error(cmd, "%s must be a whole number from 0 to 100000, not '%s'",
-                                         c == O_POST_SMOOTH ? "--smooth" : "--smooth-normals", word);
-            else if (c == O_POST_SMOOTH)
-                o->params.smooth_iterations = (int)l;
-            else
-                o->params.smooth_normal_iterations = (int)l;
-            break;
-        }
-        case O_POST_SIMPLIFY:
-            if (cli_parse_double(optarg, &d) != 0 || !(d >= 0) || d > 1000)
-                rc = options_usage_error(cmd, "--simplify must be a number from 0 to 1000, not '%s'", optarg);
-            else
-                o->params.simplify_error = (float)d;
-            break;
-        case O_EXACT: o->params.exact_surface = 1; break;
-        case O_UVAXIS:
-            if (!strcmp(optarg, "x")) o->params.uv_axis = 1;
-            else if (!strcmp(optarg, "y")) o->params.uv_axis = 2;
-            else if (!strcmp(optarg, "z")) o->params.uv_axis = 3;
-            else rc = options_usage_error(cmd, "--uv-axis is x, y or z, not '%s'", optarg);
-            break;
-        case 'o': o->output = optarg; break;
-        case O_FORMAT:
-            k = jmf_output_format_parse(optarg);
-            if (k < 0)
-                rc = options_usage_error(cmd, "--format is obj, gltf, glb, drc, ply or vtk, not '%s'",
-                                         optarg);
-            else {
-                o->write.format = (jmf_output_format)k;
-                o->format_given = 1;
-            }
-            break;
-        case O_DRACO: o->write.draco = 1; break;
-        case O_EMBED: o->write.embed = 1; break;
-        case O_ZUP: o->write.z_up = 1; break;
-        case O_DPOS: rc = bits(cmd, "--draco-position-bits", optarg, &o->write.draco_position_bits); break;
-        case O_DNORM: rc = bits(cmd, "--draco-normal-bits", optarg, &o->write.draco_normal_bits); break;
-        case O_DUV: rc = bits(cmd, "--draco-uv-bits", optarg, &o->write.draco_uv_bits); break;
-        case O_INFORMAT:
-            k = jmf_input_format_parse(optarg);
-            if (k < 0)
-                rc = options_usage_error(
-                    cmd, "--input-format is auto, csv, xyz, vtk, vtu, bgeo or ply, not '%s'", optarg);
-            else
-                o->read.format = (jmf_input_format)k;
-            break;
-        case O_FRAMES: {
-            char err[256];
-            if (seq_range_parse(optarg, &o->frames, err, sizeof err) != 0)
-                rc = options_usage_error(cmd, "--frames: %s", err);
-            break;
-        }
-        case O_STATS:
-            if (!stats_path_ok(optarg))
-                rc = options_usage_error(cmd, "--stats FILE must end in .csv or .json, not '%s'", optarg);
-            o->stats_path = optarg;
-            break;
-        case O_STATSSVG: {
-            size_t n = strlen(optarg);
-            if (n < 5 || strcmp(optarg + n - 4, ".svg") != 0)
-                rc = options_usage_error(cmd, "--stats-svg FILE must end in .svg, not '%s'", optarg);
-            o->stats_svg = optarg;
-            break;
-        }
-        case O_DROP: o->read.drop_invalid = 1; break;
-        case O_NOSYNC: o->write.no_sync = 1; break;
-        case O_FRAMEJOBS:
-            if (cli_parse_long(optarg, 0, CONVERT_MAX_FRAME_JOBS, &l) != 0)
-                rc = options_usage_error(cmd, "--frame-jobs must be a whole number from 0 to %d, not '%s'",
-                                         CONVERT_MAX_FRAME_JOBS, optarg);
-            o->frame_jobs = (int)l;
-            break;
-        case O_KEEP: o->keep_going = 1; break;
-        case O_RESUME: o->resume = 1; break;
-        case O_SHARD: {
-            char err[256];
-            if (shard_parse(optarg, &o->shard, err, sizeof err) != 0)
-                rc = options_usage_error(cmd, "%s", err);
-            break;
-        }
-        case O_MAXMEM:
-            if (options_parse_size(optarg, &o->max_memory) != 0)
-                rc = options_usage_error(cmd, "--max-memory must be a size of 0 (no limit) or more, like 2G or "
-                                         "500M (K, M, G, T: powers of 1024), not '%s'", optarg);
-            break;
-        case O_ANISO: o->params.anisotropic = 1; break;
-        case O_ANISO_RADIUS:
-            rc = length(cmd, "--anisotropic-radius", optarg,
-                        "0.1 to 4 times --smoothing-length (times R; 8 at the defaults)", &o->params.aniso_radius);
-            break;
-        case 'q': o->quiet = 1; o->verbose = 0; break;
-        case 'v': o->verbose = 1; o->quiet = 0; break;
-        case O_HELP: options_convert_help(stdout); return OPTIONS_DONE;
-        case O_VERSION: printf("jetmesh %s\n", JM_VERSION_STRING); return OPTIONS_DONE;
-        /* sequences for Blender, ParaView and the web */
-        case O_ANIMATE: o->animate = 1; break;
-        case O_FPS:
-            /* key times (frame number / fps) stay finite floats */
-            if (cli_parse_double(optarg, &d) != 0 || !(d >= FPS_MIN) || d > 100000)
-                rc = options_usage_error(cmd, "--fps must be a number from %g to 100000, not '%s'", FPS_MIN,
-                                         optarg);
-            o->fps = d;
-            break;
-        case O_TIMESTEP:
-            if (cli_parse_double(optarg, &d) != 0 || !(d >= 1e-30) || d > 1e30)
-                rc = options_usage_error(cmd, "--time-step must be a number from 1e-30 to 1e+30, not '%s'", optarg);
-            o->time_step = d;
-            break;
-        case O_PVD: o->pvd = 1; break;
-        case O_ATTRS:
-            if (!*optarg || strspn(optarg, ", ") == strlen(optarg))
-                rc = options_usage_error(cmd, "--attributes needs names (velocity,density) or all");
-            o->attributes = optarg;
-            break;
-        default:
-            rc = select_is_option(c) ? select_option(cmd, c, optarg, &o->params, &sel) : getopt_problem(cmd, c, argv);
-            break;
-        }
+    int k;
+    switch (c) {
+    case 'o': o->output = optarg; return OPTIONS_RUN;
+    case O_FORMAT:
+        k = jmf_output_format_parse(optarg);
+        if (k < 0)
+            return options_usage_error(cmd, "--format is obj, gltf, glb, drc, ply or vtk, not '%s'", optarg);
+        o->write.format = (jmf_output_format)k;
+        o->format_given = 1;
+        return OPTIONS_RUN;
+    case O_DRACO: o->write.draco = 1; return OPTIONS_RUN;
+    case O_EMBED: o->write.embed = 1; return OPTIONS_RUN;
+    case O_ZUP: o->write.z_up = 1; return OPTIONS_RUN;
+    case O_DPOS: return bits(cmd, "--draco-position-bits", optarg, &o->write.draco_position_bits);
+    case O_DNORM: return bits(cmd, "--draco-normal-bits", optarg, &o->write.draco_normal_bits);
+    case O_DUV: return bits(cmd, "--draco-uv-bits", optarg, &o->write.draco_uv_bits);
+    case O_NOSYNC: o->write.no_sync = 1; return OPTIONS_RUN;
+    default: return NOT_MINE;
     }
-    if (rc == OPTIONS_RUN)
-        rc = select_finish(cmd, &o->params, &sel);
-    if (rc != OPTIONS_RUN)
-        return rc;
+}
+
+/* What is read, and how the run goes. */
+static int convert_run_option(convert_options *o, int c)
+{
+    const char *cmd = "convert";
+    char err[256];
+    long l;
+    int k;
+    switch (c) {
+    case O_INFORMAT:
+        k = jmf_input_format_parse(optarg);
+        if (k < 0)
+            return options_usage_error(cmd, "--input-format is auto, csv, xyz, vtk, vtu, bgeo or ply, not '%s'",
+                                       optarg);
+        o->read.format = (jmf_input_format)k;
+        return OPTIONS_RUN;
+    case O_FRAMES:
+        if (seq_range_parse(optarg, &o->frames, err, sizeof err) != 0)
+            return options_usage_error(cmd, "--frames: %s", err);
+        return OPTIONS_RUN;
+    case O_STATS:
+        o->stats_path = optarg;
+        if (!stats_path_ok(optarg))
+            return options_usage_error(cmd, "--stats FILE must end in .csv or .json, not '%s'", optarg);
+        return OPTIONS_RUN;
+    case O_STATSSVG: {
+        size_t n = strlen(optarg);
+        o->stats_svg = optarg;
+        if (n < 5 || strcmp(optarg + n - 4, ".svg") != 0)
+            return options_usage_error(cmd, "--stats-svg FILE must end in .svg, not '%s'", optarg);
+        return OPTIONS_RUN;
+    }
+    case O_DROP: o->read.drop_invalid = 1; return OPTIONS_RUN;
+    case O_FRAMEJOBS:
+        if (cli_parse_long(optarg, 0, CONVERT_MAX_FRAME_JOBS, &l) != 0)
+            return options_usage_error(cmd, "--frame-jobs must be a whole number from 0 to %d, not '%s'",
+                                       CONVERT_MAX_FRAME_JOBS, optarg);
+        o->frame_jobs = (int)l;
+        return OPTIONS_RUN;
+    case O_KEEP: o->keep_going = 1; return OPTIONS_RUN;
+    case O_RESUME: o->resume = 1; return OPTIONS_RUN;
+    case O_SHARD:
+        if (shard_parse(optarg, &o->shard, err, sizeof err) != 0)
+            return options_usage_error(cmd, "%s", err);
+        return OPTIONS_RUN;
+    case 'q': o->quiet = 1; o->verbose = 0; return OPTIONS_RUN;
+    case 'v': o->verbose = 1; o->quiet = 0; return OPTIONS_RUN;
+    default: return NOT_MINE;
+    }
+}
+
+/* Sequences for Blender, ParaView and the web. */
+static int convert_sequence_option(convert_options *o, int c)
+{
+    const char *cmd = "convert";
+    double d = 0;
+    switch (c) {
+    case O_ANIMATE: o->animate = 1; return OPTIONS_RUN;
+    case O_FPS:
+        /* key times (frame number / fps) stay finite floats */
+        if (cli_parse_double(optarg, &d) != 0 || !(d >= FPS_MIN) || d > 100000)
+            return options_usage_error(cmd, "--fps must be a number from %g to 100000, not '%s'", FPS_MIN, optarg);
+        o->fps = d;
+        return OPTIONS_RUN;
+    case O_TIMESTEP:
+        if (cli_parse_double(optarg, &d) != 0 || !(d >= 1e-30) || d > 1e30)
+            return options_usage_error(cmd, "--time-step must be a number from 1e-30 to 1e+30, not '%s'", optarg);
+        o->time_step = d;
+        return OPTIONS_RUN;
+    case O_PVD: o->pvd = 1; return OPTIONS_RUN;
+    case O_ATTRS:
+        o->attributes = optarg;
+        if (!*optarg || strspn(optarg, ", ") == strlen(optarg))
+            return options_usage_error(cmd, "--attributes needs names (velocity,density) or all");
+        return OPTIONS_RUN;
+    default: return NOT_MINE;
+    }
+}
+
+/* After the options: the operands, what is required, and the options that
+ * need or exclude others. */
+static int convert_finish(int argc, char **argv, convert_options *o, int radius_given)
+{
+    const char *cmd = "convert";
     if (o->fps <= 0)
         o->fps = 24.0;
     o->read.attributes = o->attributes;
@@ -544,9 +388,50 @@ int options_parse_convert(int argc, char **argv, convert_options *o)
     if (o->animate && o->shard.count > 0)
         return options_usage_error(cmd, "--animate writes the whole run into one file, which shards cannot "
                                         "share: convert shards to per-frame files, or animate in one run");
-    o->params.max_bytes = o->max_memory;
+    o->max_memory = o->params.max_bytes; /* --max-memory, or its default */
     o->read.max_bytes = o->max_memory;
     return OPTIONS_RUN;
+}
+
+int options_parse_convert(int argc, char **argv, convert_options *o)
+{
+    const char *cmd = "convert";
+    struct option longs[NOWN + MESH_OPTIONS_MAX + 1];
+    size_t nlong = NOWN;
+    memcpy(longs, convert_own, sizeof convert_own);
+    mesh_options_long(CLI_CONVERT, longs, &nlong);
+    longs[nlong] = (struct option){0, 0, 0, 0};
+    memset(o, 0, sizeof *o);
+    o->params.max_bytes = options_default_max_memory();
+    o->field_auto = 1;
+    int radius_given = 0, rc = OPTIONS_RUN, c;
+    select_given sel = {0, 0, 0, 0};
+    optind = 0; /* GNU: full reinitialisation */
+    opterr = 0;
+    while (rc == OPTIONS_RUN && (c = getopt_long(argc, argv, ":r:c:j:o:qv", longs, NULL)) != -1) {
+        if (c == O_HELP) {
+            options_convert_help(stdout);
+            return OPTIONS_DONE;
+        }
+        if (c == O_VERSION) {
+            printf("jetmesh %s\n", JM_VERSION_STRING);
+            return OPTIONS_DONE;
+        }
+        rc = convert_mesh_option(o, c, argc, argv, &radius_given, &sel);
+        if (rc == NOT_MINE)
+            rc = convert_output_option(o, c);
+        if (rc == NOT_MINE)
+            rc = convert_run_option(o, c);
+        if (rc == NOT_MINE)
+            rc = convert_sequence_option(o, c);
+        if (rc == NOT_MINE)
+            rc = getopt_problem(cmd, c, argv);
+    }
+    if (rc == OPTIONS_RUN)
+        rc = select_finish(cmd, &o->params, &sel);
+    if (rc != OPTIONS_RUN)
+        return rc;
+    return convert_finish(argc, argv, o, radius_given);
 }
 
 static const struct option generate_long[] = {

@@ -16,10 +16,6 @@
 #define OPTIONS_RUN 0   /* go on */
 #define OPTIONS_DONE -1 /* --help or --version was printed: exit 0 */
 #define OPTIONS_USAGE 2 /* a usage error was printed: exit 2 */
-/* --smooth and --smooth-normals without a number: the recommended strength
- * (splashsurf's recommended 25 smoothing and 10 normal iterations) */
-#define OPTIONS_SMOOTH_DEFAULT 25
-#define OPTIONS_SMOOTH_NORMALS_DEFAULT 10
 
 typedef struct convert_options {
     jm_params params;        /* radius, cube size, field, ... (0 = default) */

@@ -1,4 +1,4 @@
-/* select_options.c - the options that choose what is meshed and kept (particle box, small pieces, mesh clip box), for convert and bench. */
+/* select_options.c - reads the options that choose what is meshed and kept (particle box, small pieces, mesh clip box), for convert and bench (their names and help: mesh_options.c). */
 #include "select_options.h"
 
 #include <limits.h>
@@ -7,25 +7,6 @@
 #include "numbers.h"
 #include "options.h"
 #include "param_errors.h"
-
-void select_help(FILE *f)
-{
-    fputs("Selection and clipping (off by default; boxes in world units):\n"
-          "      --particle-aabb-min X,Y,Z  with --particle-aabb-max X,Y,Z: mesh only the\n"
-          "                              particles inside this box\n"
-          "      --min-piece-particles N  leave out groups of fewer than N particles\n"
-          "                              (stray droplets; one group: particles within the\n"
-          "                              link distance, sph: the kernel support, 4 R)\n"
-          "      --min-piece-volume V    remove mesh pieces enclosing less than V R^3 (one\n"
-          "                              particle's ball: 4.19) after post-processing\n"
-          "      --mesh-aabb-min X,Y,Z   with --mesh-aabb-max X,Y,Z: clip the mesh to this\n"
-          "                              box, last: triangles with a corner outside are\n"
-          "                              removed, the mesh is open along the cut (a\n"
-          "                              tank's walls removed)\n"
-          "      --mesh-aabb-clamp-vertices  close the cut instead: the vertices outside\n"
-          "                              move onto the box, the mesh stays closed\n",
-          f);
-}
 
 /* "X,Y,Z": three finite numbers. 0 or -1. */
 static int parse_xyz(const char *arg, float out[3])

@@ -1,9 +1,6 @@
-/* select_options.h - the options that choose what is meshed and kept (particle box, small pieces, mesh clip box), for convert and bench. */
+/* select_options.h - reads the options that choose what is meshed and kept (particle box, small pieces, mesh clip box), for convert and bench (their names and help: mesh_options.c). */
 #ifndef JETMESH_CLI_SELECT_OPTIONS_H
 #define JETMESH_CLI_SELECT_OPTIONS_H
-
-#include <getopt.h>
-#include <stdio.h>
 
 #include "../lib/jetmesh.h"
 
@@ -12,26 +9,10 @@ enum {
     SO_END
 };
 
-/* Their getopt_long entries, for a command's table. */
-#define SELECT_LONG_OPTIONS                                                   \
-    {"particle-aabb-min", required_argument, 0, SO_PAABB_MIN},                \
-    {"particle-aabb-max", required_argument, 0, SO_PAABB_MAX},                \
-    {"mesh-aabb-min", required_argument, 0, SO_MAABB_MIN},                    \
-    {"mesh-aabb-max", required_argument, 0, SO_MAABB_MAX},                    \
-    {"mesh-aabb-clamp-vertices", no_argument, 0, SO_MAABB_CLAMP},            \
-    {"min-piece-particles", required_argument, 0, SO_MIN_PARTICLES},          \
-    {"min-piece-volume", required_argument, 0, SO_MIN_VOLUME}
-
 /* Which of them were given. */
 typedef struct select_given {
     int pmin, pmax, mmin, mmax;
 } select_given;
-
-/* 1 if getopt's result c is one of these options. */
-static inline int select_is_option(int c)
-{
-    return c >= SO_PAABB_MIN && c < SO_END;
-}
 
 /* Parses option c's argument into p's members: OPTIONS_RUN, or a usage
  * error (printed) for cmd. */
@@ -49,6 +30,4 @@ int select_any(const jm_params *p);
 /* Copies the members these options set from src into dst. */
 void select_copy(jm_params *dst, const jm_params *src);
 
-/* convert's --help lines of these options. */
-void select_help(FILE *f);
 #endif

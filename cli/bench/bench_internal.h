@@ -7,6 +7,7 @@
 
 #include "../../formats/reader.h"
 #include "../../lib/jetmesh.h"
+#include "../names.h"
 #include "bench_stats.h"
 
 #define BENCH_MAX_LIST 16 /* values of one list option (--cube-size, --threads) */
@@ -65,9 +66,8 @@ typedef struct bench_case {
 
 typedef enum { TPL_AUTO, TPL_ON, TPL_OFF, TPL_BOTH } tpl_mode;
 
-/* --field sph-aniso: the SPH field with anisotropic kernels (a bench case
- * value only; the library sees JM_FIELD_SPH and params.anisotropic) */
-#define BENCH_FIELD_SPH_ANISO ((jm_field)(JM_FIELD_SPH + 100))
+/* --field sph-aniso (names.h) */
+#define BENCH_FIELD_SPH_ANISO CLI_FIELD_SPH_ANISO
 
 typedef struct bench_opts {
     bench_input inputs[64];
@@ -80,12 +80,11 @@ typedef struct bench_opts {
     size_t ncubes;
     int threads[BENCH_MAX_LIST];
     size_t nthreads;
-    double radius, smoothing, threshold, link;
-    int threshold_given;
-    int smooth_iters, smooth_normal_iters; /* post-processing, as jm_params */
-    int flicker;                           /* --flicker K: frames of the flicker figure; 0 off */
-    double simplify;
-    jm_params select;   /* the selection options' members (select_options.h) */
+    double radius;      /* -r: scenes are generated with it */
+    jm_params params;   /* the other meshing options (mesh_options.h) and the
+                           selection options (select_options.h); the lists
+                           above and the templates are set per case */
+    int flicker;        /* --flicker K: frames of the flicker figure; 0 off */
     double min_time;
     long repeat, warmup, max_repeat;
     tpl_mode templates;

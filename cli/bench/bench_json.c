@@ -77,8 +77,8 @@ static void json_case(FILE *f, const bench_opts *o, const bench_input *in, const
         fprintf(f, ", \"frame\": %d", in->frame);
     else
         fprintf(f, ", \"n\": %zu, \"seed\": %llu", in->n, (unsigned long long)o->seed);
-    fprintf(f, ",\n     \"field\": \"%s\", \"method\": \"%s\", \"radius\": ", bench_field_name(c->field),
-            bench_method_name(c->method));
+    fprintf(f, ",\n     \"field\": \"%s\", \"method\": \"%s\", \"radius\": ", cli_field_name(c->field),
+            cli_method_name(c->method));
     json_num(f, o->radius);
     fputs(", \"cube_size\": ", f);
     json_num(f, c->cube);

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "../../formats/writer.h"
+#include "../mesh_options.h"
 #include "../numbers.h"
 #include "../options.h"
 #include "../platform.h"
@@ -17,6 +18,11 @@
 #include "../select_options.h"
 
 #define CMD "bench"
+
+/* The meshing options in bench's --help, in this order. */
+static const char *const mesh_names[] = {"field", "method", "radius", "cube-size", "smoothing-length",
+                                         "threshold", "link-distance", "smooth", "particle-aabb-min",
+                                         "threads", NULL};
 
 static void bench_help(FILE *f)
 {
@@ -35,21 +41,10 @@ static void bench_help(FILE *f)
         "  file of that name; write ./jet for the file.\n"
         "\n"
         "Options (LIST: one value or a comma list, e.g. mt,mc or 1,2):\n"
-        "      --scene SCENE           add a scene (repeatable; same as the operand)\n"
-        "      --field LIST            metasphere, sph, sph-aniso (sph with --anisotropic)\n"
-        "                              (default metasphere)\n"
-        "      --method LIST           mt, mc (default mt)\n"
-        "  -r, --radius R              particle radius (default 0.025); scenes are\n"
-        "                              generated with it\n"
-        "  -c, --cube-size LIST        cube edge relative to R (default 0.5)\n"
-        "      --smoothing-length L    sph kernel length h relative to R (default 2)\n"
-        "      --threshold T           iso value (default 0 metasphere, 0.6 sph)\n"
-        "      --link-distance L       metasphere link distance relative to R (default pi)\n"
-        "      --smooth [N], --smooth-normals [N], --simplify E  post-processing, as convert\n"
-        "      --particle-aabb-min X,Y,Z, --particle-aabb-max X,Y,Z, --min-piece-particles N,\n"
-        "      --min-piece-volume V, --mesh-aabb-min X,Y,Z, --mesh-aabb-max X,Y,Z,\n"
-        "      --mesh-aabb-clamp-vertices  selection and clipping, as convert\n"
-        "  -j, --threads LIST          worker threads; 0 = all cores (default 1,CORES)\n"
+        "      --scene SCENE           add a scene (repeatable; same as the operand)\n",
+        f);
+    mesh_options_help(f, CLI_BENCH, mesh_names);
+    fputs(
         "      --templates auto|on|off|both  sphere templates for isolated particles\n"
         "                              (auto: both for spray scenes, on otherwise)\n"
         "      --seed S                seed of block and spray (default 1)\n"
@@ -153,86 +148,62 @@ static int add_input(bench_opts *o, const bench_input *in)
     return OPTIONS_RUN;
 }
 
-/* Splits a comma list into items; calls one(item) for each. */
-typedef int (*item_fn)(bench_opts *o, const char *opt, const char *item);
+/* One value of a list option (--field, --method, --cube-size, --threads)
+ * added to its list. */
+static int list_item(bench_opts *o, const mesh_option *m, const char *s)
+{
+    mo_value v;
+    int rc = mesh_option_value(m, CLI_BENCH, s, 0, NULL, &v);
+    if (rc != OPTIONS_RUN)
+        return rc;
+    switch (m->key) {
+    case MO_FIELD:
+        for (size_t i = 0; i < o->nfields; i++)
+            if (o->fields[i] == (jm_field)v.l)
+                return OPTIONS_RUN;
+        o->fields[o->nfields++] = (jm_field)v.l;
+        return OPTIONS_RUN;
+    case MO_METHOD:
+        for (size_t i = 0; i < o->nmethods; i++)
+            if (o->methods[i] == (jm_method)v.l)
+                return OPTIONS_RUN;
+        o->methods[o->nmethods++] = (jm_method)v.l;
+        return OPTIONS_RUN;
+    case 'c':
+        if (o->ncubes >= BENCH_MAX_LIST)
+            return options_usage_error(CMD, "--%s: at most %d values", m->name, BENCH_MAX_LIST);
+        o->cubes[o->ncubes++] = v.d;
+        return OPTIONS_RUN;
+    default: /* --threads */
+        if (v.l == 0)
+            v.l = platform_cores();
+        for (size_t i = 0; i < o->nthreads; i++)
+            if (o->threads[i] == (int)v.l)
+                return OPTIONS_RUN;
+        if (o->nthreads >= BENCH_MAX_LIST)
+            return options_usage_error(CMD, "--%s: at most %d values", m->name, BENCH_MAX_LIST);
+        o->threads[o->nthreads++] = (int)v.l;
+        return OPTIONS_RUN;
+    }
+}
 
-static int each_item(bench_opts *o, const char *opt, const char *list, item_fn one)
+/* Splits a comma list into its items. */
+static int each_item(bench_opts *o, const mesh_option *m, const char *list)
 {
     char buf[256];
     if (strlen(list) >= sizeof buf)
-        return options_usage_error(CMD, "%s: list too long", opt);
+        return options_usage_error(CMD, "--%s: list too long", m->name);
     strcpy(buf, list);
     char *save = NULL;
     int any = 0;
     for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        int rc = one(o, opt, t);
+        int rc = list_item(o, m, t);
         if (rc != OPTIONS_RUN)
             return rc;
         any = 1;
     }
     if (!any)
-        return options_usage_error(CMD, "%s needs a value", opt);
-    return OPTIONS_RUN;
-}
-
-static int item_field(bench_opts *o, const char *opt, const char *s)
-{
-    jm_field f;
-    if (strcmp(s, "metasphere") == 0)
-        f = JM_FIELD_METASPHERE;
-    else if (strcmp(s, "sph") == 0)
-        f = JM_FIELD_SPH;
-    else if (strcmp(s, "sph-aniso") == 0)
-        f = BENCH_FIELD_SPH_ANISO;
-    else
-        return options_usage_error(CMD, "%s is metasphere, sph or sph-aniso, not '%s'", opt, s);
-    for (size_t i = 0; i < o->nfields; i++)
-        if (o->fields[i] == f)
-            return OPTIONS_RUN;
-    o->fields[o->nfields++] = f;
-    return OPTIONS_RUN;
-}
-
-static int item_method(bench_opts *o, const char *opt, const char *s)
-{
-    jm_method m;
-    if (strcmp(s, "mt") == 0)
-        m = JM_METHOD_MT;
-    else if (strcmp(s, "mc") == 0)
-        m = JM_METHOD_MC;
-    else
-        return options_usage_error(CMD, "%s is mt or mc, not '%s'", opt, s);
-    for (size_t i = 0; i < o->nmethods; i++)
-        if (o->methods[i] == m)
-            return OPTIONS_RUN;
-    o->methods[o->nmethods++] = m;
-    return OPTIONS_RUN;
-}
-
-static int item_cube(bench_opts *o, const char *opt, const char *s)
-{
-    double v;
-    if (cli_parse_double(s, &v) != 0 || !(v > 0) || v > 1e6) /* the library refuses the rest, per case */
-        return options_usage_error(CMD, "%s must be numbers from 0.001 to 100 (times R), not '%s'", opt, s);
-    if (o->ncubes >= BENCH_MAX_LIST)
-        return options_usage_error(CMD, "%s: at most %d values", opt, BENCH_MAX_LIST);
-    o->cubes[o->ncubes++] = v;
-    return OPTIONS_RUN;
-}
-
-static int item_threads(bench_opts *o, const char *opt, const char *s)
-{
-    long v;
-    if (cli_parse_long(s, 0, 4096, &v) != 0)
-        return options_usage_error(CMD, "%s must be whole numbers from 0 to 4096, not '%s'", opt, s);
-    if (v == 0)
-        v = platform_cores();
-    for (size_t i = 0; i < o->nthreads; i++)
-        if (o->threads[i] == (int)v)
-            return OPTIONS_RUN;
-    if (o->nthreads >= BENCH_MAX_LIST)
-        return options_usage_error(CMD, "%s: at most %d values", opt, BENCH_MAX_LIST);
-    o->threads[o->nthreads++] = (int)v;
+        return options_usage_error(CMD, "--%s needs a value", m->name);
     return OPTIONS_RUN;
 }
 
@@ -266,22 +237,13 @@ bad:
 }
 
 enum {
-    B_SCENE = 256, B_FIELD, B_METHOD, B_SMOOTH, B_THRESHOLD, B_LINK, B_TEMPLATES, B_SEED,
-    B_INFORMAT, B_MINTIME, B_REPEAT, B_MAXREPEAT, B_WARMUP, B_WRITE, B_WRITEDIR, B_JSON,
-    B_JSONOUT, B_HELP,
-    B_POST_SMOOTH, B_POST_NSMOOTH, B_POST_SIMPLIFY, B_FLICKER
+    B_SCENE = 256, B_TEMPLATES, B_SEED, B_INFORMAT, B_MINTIME, B_REPEAT, B_MAXREPEAT, B_WARMUP, B_WRITE,
+    B_WRITEDIR, B_JSON, B_JSONOUT, B_HELP, B_FLICKER
 };
 
-static const struct option bench_long[] = {
+/* bench's own options; the meshing options come from mesh_options.c */
+static const struct option bench_own[] = {
     {"scene", required_argument, 0, B_SCENE},
-    {"field", required_argument, 0, B_FIELD},
-    {"method", required_argument, 0, B_METHOD},
-    {"radius", required_argument, 0, 'r'},
-    {"cube-size", required_argument, 0, 'c'},
-    {"smoothing-length", required_argument, 0, B_SMOOTH},
-    {"threshold", required_argument, 0, B_THRESHOLD},
-    {"link-distance", required_argument, 0, B_LINK},
-    {"threads", required_argument, 0, 'j'},
     {"templates", required_argument, 0, B_TEMPLATES},
     {"seed", required_argument, 0, B_SEED},
     {"input-format", required_argument, 0, B_INFORMAT},
@@ -295,208 +257,173 @@ static const struct option bench_long[] = {
     {"json-out", required_argument, 0, B_JSONOUT},
     {"quiet", no_argument, 0, 'q'},
     {"help", no_argument, 0, B_HELP},
-    {"smooth", optional_argument, 0, B_POST_SMOOTH},
-    {"smooth-normals", optional_argument, 0, B_POST_NSMOOTH},
-    {"simplify", required_argument, 0, B_POST_SIMPLIFY},
-    SELECT_LONG_OPTIONS,
     {"flicker", required_argument, 0, B_FLICKER},
-    {0, 0, 0, 0},
 };
+#define NOWN (sizeof bench_own / sizeof bench_own[0])
 
-int bench_parse_options(int argc, char **argv, bench_opts *o)
+/* The value a handler returns for an option that is not its own. */
+#define NOT_MINE 1000
+
+/* Where the parse stands: a bare "block"/"spray" waiting for its N. */
+typedef struct parse_state {
+    bench_input pending;
+    int have_pending;
+    select_given sel;
+} parse_state;
+
+static const char *kind_name(const bench_input *in)
 {
-    memset(o, 0, sizeof *o);
-    o->radius = SCENE_DEFAULT_RADIUS;
-    o->min_time = 1.0;
-    o->repeat = 5;
-    o->warmup = 1;
-    o->max_repeat = 100000;
-    o->write_format = -1;
-    o->seed = 1;
-    o->templates = TPL_AUTO;
+    return in->kind == IN_BLOCK ? "block" : "spray";
+}
 
-    bench_input pending; /* a bare "block"/"spray" waiting for its N */
-    int have_pending = 0, rc = OPTIONS_RUN, c;
-    select_given sel = {0, 0, 0, 0};
-    optind = 0;
-    opterr = 0;
-    while (rc == OPTIONS_RUN && (c = getopt_long(argc, argv, "-:r:c:j:q", bench_long, NULL)) != -1) {
-        double d;
-        long l;
-        int needs = 0;
-        bench_input in;
-        if (have_pending && c != 1)
-            return options_usage_error(CMD, "%s needs a particle count N: %s N or %s:N",
-                                       pending.kind == IN_BLOCK ? "block" : "spray",
-                                       pending.kind == IN_BLOCK ? "block" : "spray",
-                                       pending.kind == IN_BLOCK ? "block" : "spray");
-        switch (c) {
-        case 1: /* an operand, in order */
-            if (have_pending) {
-                if (parse_count(optarg, &pending.n) != 0)
-                    return options_usage_error(CMD, "%s needs a particle count N from 1 to 2e9 (1k, 1M), not '%s'",
-                                               pending.kind == IN_BLOCK ? "block" : "spray", optarg);
-                snprintf(pending.name, sizeof pending.name, "%s:%zu",
-                         pending.kind == IN_BLOCK ? "block" : "spray", pending.n);
-                have_pending = 0;
-                rc = add_input(o, &pending);
-                break;
-            }
-            /* fall through */
-        case B_SCENE: {
-            int r = parse_scene(optarg, &in, &needs);
-            if (r == -2)
-                return options_usage_error(CMD, "bad scene '%s': jet[:FRAME] (FRAME from 0 to 1000000), block:N or "
-                                           "spray:N (N from 1 to 2e9, 1k, 1M)", optarg);
-            if (r == -1) {
-                if (c == B_SCENE)
-                    return options_usage_error(CMD, "--scene is jet, block N or spray N, not '%s'", optarg);
-                memset(&in, 0, sizeof in);
-                in.kind = IN_FILE;
-                in.path = optarg;
-                const char *base = strrchr(optarg, '/');
-                snprintf(in.name, sizeof in.name, "%s", base ? base + 1 : optarg);
-                rc = add_input(o, &in);
-            } else if (needs) {
-                pending = in;
-                have_pending = 1;
-            } else
-                rc = add_input(o, &in);
-            break;
-        }
-        case B_FIELD: rc = each_item(o, "--field", optarg, item_field); break;
-        case B_METHOD: rc = each_item(o, "--method", optarg, item_method); break;
-        case 'c': rc = each_item(o, "--cube-size", optarg, item_cube); break;
-        case 'j': rc = each_item(o, "--threads", optarg, item_threads); break;
-        case 'r':
-            if (cli_parse_double(optarg, &d) != 0 || !(d >= 1.2e-38) || d > 1e30)
-                return options_usage_error(CMD, "--radius must be a number from 1.2e-38 to 1e+30, not '%s'", optarg);
-            o->radius = d;
-            break;
-        case B_POST_SMOOTH:
-        case B_POST_NSMOOTH: {
-            long l;
-            const char *word;
-            if (cli_optional_long(optarg, argc, argv, &optind, 0, 100000,
-                                  c == B_POST_SMOOTH ? OPTIONS_SMOOTH_DEFAULT : OPTIONS_SMOOTH_NORMALS_DEFAULT, &l,
-                                  &word) != 0)
-                return options_usage_error(CMD, "%s must be a whole number from 0 to 100000, not '%s'",
-                                           c == B_POST_SMOOTH ? "--smooth" : "--smooth-normals", word);
-            if (c == B_POST_SMOOTH)
-                o->smooth_iters = (int)l;
-            else
-                o->smooth_normal_iters = (int)l;
-            break;
-        }
-        case B_FLICKER: {
-            long l;
-            if (cli_parse_long(optarg, 0, 1000, &l) != 0 || l == 1)
-                return options_usage_error(CMD, "--flicker must be 0 or a whole number of frames from 2 to 1000, "
-                                           "not '%s'", optarg);
-            o->flicker = (int)l;
-            break;
-        }
-        case B_POST_SIMPLIFY:
-            if (cli_parse_double(optarg, &d) != 0 || !(d >= 0) || d > 1000)
-                return options_usage_error(CMD, "--simplify must be a number from 0 to 1000, not '%s'", optarg);
-            o->simplify = d;
-            break;
-        case B_SMOOTH:
-            if (cli_parse_double(optarg, &d) != 0 || !(d > 0) || d > 1e6)
-                return options_usage_error(CMD, "--smoothing-length must be a number from 0.05 to 100 (times R), "
-                                           "not '%s'", optarg);
-            o->smoothing = d;
-            break;
-        case B_LINK:
-            if (cli_parse_double(optarg, &d) != 0 || !(d >= 1.2e-38) || d > 1e6)
-                return options_usage_error(CMD, "--link-distance must be a number from 1.2e-38 to 1e+06 (times R), "
-                                           "not '%s'", optarg);
-            o->link = d;
-            break;
-        case B_THRESHOLD:
-            if (cli_parse_double(optarg, &d) != 0)
-                return options_usage_error(CMD, "--threshold must be a number above -1 and below 1 for the "
-                                           "metasphere, above 0 for sph (0: the field's default), not '%s'", optarg);
-            o->threshold = d;
-            o->threshold_given = 1;
-            break;
-        case B_TEMPLATES:
-            if (strcmp(optarg, "auto") == 0)
-                o->templates = TPL_AUTO;
-            else if (strcmp(optarg, "on") == 0)
-                o->templates = TPL_ON;
-            else if (strcmp(optarg, "off") == 0)
-                o->templates = TPL_OFF;
-            else if (strcmp(optarg, "both") == 0)
-                o->templates = TPL_BOTH;
-            else
-                return options_usage_error(CMD, "--templates is auto, on, off or both, not '%s'", optarg);
-            break;
-        case B_SEED: {
-            char *end;
-            errno = 0;
-            unsigned long long s = strtoull(optarg, &end, 10);
-            if (!*optarg || *end || errno || optarg[0] == '-')
-                return options_usage_error(CMD, "--seed must be a whole number from 0 to %llu, not '%s'",
-                                           (unsigned long long)UINT64_MAX, optarg);
-            o->seed = s;
-            break;
-        }
-        case B_INFORMAT: {
-            int k = jmf_input_format_parse(optarg);
-            if (k < 0)
-                return options_usage_error(
-                    CMD, "--input-format is auto, csv, xyz, vtk, vtu, bgeo or ply, not '%s'", optarg);
-            o->read.format = (jmf_input_format)k;
-            break;
-        }
-        case B_MINTIME:
-            if (cli_parse_double(optarg, &d) != 0 || d < 0 || d > 1e6)
-                return options_usage_error(CMD, "--min-time must be seconds from 0 to 1e+06, not '%s'", optarg);
-            o->min_time = d;
-            break;
-        case B_REPEAT:
-            if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
-                return options_usage_error(CMD, "--repeat must be a whole number from 1 to 100000000, not '%s'",
-                                           optarg);
-            o->repeat = l;
-            break;
-        case B_MAXREPEAT:
-            if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
-                return options_usage_error(CMD, "--max-repeat must be a whole number from 1 to 100000000, not '%s'",
-                                           optarg);
-            o->max_repeat = l;
-            break;
-        case B_WARMUP:
-            if (cli_parse_long(optarg, 1, 1000000, &l) != 0)
-                return options_usage_error(CMD, "--warmup must be a whole number from 1 to 1000000, not '%s'",
-                                           optarg);
-            o->warmup = l;
-            break;
-        case B_WRITE: rc = parse_write(o, optarg); break;
-        case B_WRITEDIR: o->write_dir = optarg; break;
-        case B_JSON: o->json = 1; break;
-        case B_JSONOUT: o->json_out = optarg; break;
-        case 'q': o->quiet = 1; break;
-        case B_HELP: bench_help(stdout); return OPTIONS_DONE;
-        case ':': return options_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
-        default:
-            if (select_is_option(c)) {
-                rc = select_option(CMD, c, optarg, &o->select, &sel);
-                break;
-            }
-            if (optopt)
-                return options_usage_error(CMD, "unknown option '-%c'", optopt);
-            return options_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
-        }
+/* An operand or --scene: a scene, its N, or an input file. */
+static int input_option(bench_opts *o, parse_state *st, int c)
+{
+    bench_input in;
+    int needs = 0;
+    if (c == 1 && st->have_pending) {
+        if (parse_count(optarg, &st->pending.n) != 0)
+            return options_usage_error(CMD, "%s needs a particle count N from 1 to 2e9 (1k, 1M), not '%s'",
+                                       kind_name(&st->pending), optarg);
+        snprintf(st->pending.name, sizeof st->pending.name, "%s:%zu", kind_name(&st->pending), st->pending.n);
+        st->have_pending = 0;
+        return add_input(o, &st->pending);
     }
-    if (rc == OPTIONS_RUN)
-        rc = select_finish(CMD, &o->select, &sel);
+    int r = parse_scene(optarg, &in, &needs);
+    if (r == -2)
+        return options_usage_error(CMD, "bad scene '%s': jet[:FRAME] (FRAME from 0 to 1000000), block:N or "
+                                   "spray:N (N from 1 to 2e9, 1k, 1M)", optarg);
+    if (r == -1) {
+        if (c == B_SCENE)
+            return options_usage_error(CMD, "--scene is jet, block N or spray N, not '%s'", optarg);
+        memset(&in, 0, sizeof in);
+        in.kind = IN_FILE;
+        in.path = optarg;
+        const char *base = strrchr(optarg, '/');
+        snprintf(in.name, sizeof in.name, "%s", base ? base + 1 : optarg);
+        return add_input(o, &in);
+    }
+    if (needs) {
+        st->pending = in;
+        st->have_pending = 1;
+        return OPTIONS_RUN;
+    }
+    return add_input(o, &in);
+}
+
+/* A meshing option (mesh_options.c): a list, or a value of o->params. */
+static int meshing_option(bench_opts *o, parse_state *st, int c, int argc, char **argv)
+{
+    const mesh_option *m = mesh_option_find(c);
+    if (!m || !(m->cmds & CLI_BENCH))
+        return NOT_MINE;
+    if (mesh_option_is_select(m))
+        return select_option(CMD, c, optarg, &o->params, &st->sel);
+    if (m->bench.list)
+        return each_item(o, m, optarg);
+    mo_value v;
+    int rc = mesh_option_value(m, CLI_BENCH, optarg, argc, argv, &v);
     if (rc != OPTIONS_RUN)
         return rc;
-    if (have_pending)
-        return options_usage_error(CMD, "%s needs a particle count N",
-                                   pending.kind == IN_BLOCK ? "block" : "spray");
+    mesh_option_store(m, &v, &o->params);
+    if (c == 'r')
+        o->radius = v.d; /* scenes are generated with the double */
+    return OPTIONS_RUN;
+}
+
+/* What the cases are made of besides the meshing options. */
+static int case_option(bench_opts *o, int c)
+{
+    long l;
+    switch (c) {
+    case B_FLICKER:
+        if (cli_parse_long(optarg, 0, 1000, &l) != 0 || l == 1)
+            return options_usage_error(CMD, "--flicker must be 0 or a whole number of frames from 2 to 1000, "
+                                       "not '%s'", optarg);
+        o->flicker = (int)l;
+        return OPTIONS_RUN;
+    case B_TEMPLATES: {
+        static const char *const names[] = {"auto", "on", "off", "both"};
+        static const tpl_mode modes[] = {TPL_AUTO, TPL_ON, TPL_OFF, TPL_BOTH};
+        for (int k = 0; k < 4; k++)
+            if (strcmp(optarg, names[k]) == 0) {
+                o->templates = modes[k];
+                return OPTIONS_RUN;
+            }
+        return options_usage_error(CMD, "--templates is auto, on, off or both, not '%s'", optarg);
+    }
+    case B_SEED: {
+        char *end;
+        errno = 0;
+        unsigned long long s = strtoull(optarg, &end, 10);
+        if (!*optarg || *end || errno || optarg[0] == '-')
+            return options_usage_error(CMD, "--seed must be a whole number from 0 to %llu, not '%s'",
+                                       (unsigned long long)UINT64_MAX, optarg);
+        o->seed = s;
+        return OPTIONS_RUN;
+    }
+    case B_INFORMAT: {
+        int k = jmf_input_format_parse(optarg);
+        if (k < 0)
+            return options_usage_error(CMD, "--input-format is auto, csv, xyz, vtk, vtu, bgeo or ply, not '%s'",
+                                       optarg);
+        o->read.format = (jmf_input_format)k;
+        return OPTIONS_RUN;
+    }
+    default: return NOT_MINE;
+    }
+}
+
+/* Timing and output. */
+static int timing_option(bench_opts *o, int c)
+{
+    double d;
+    long l;
+    switch (c) {
+    case B_MINTIME:
+        if (cli_parse_double(optarg, &d) != 0 || d < 0 || d > 1e6)
+            return options_usage_error(CMD, "--min-time must be seconds from 0 to 1e+06, not '%s'", optarg);
+        o->min_time = d;
+        return OPTIONS_RUN;
+    case B_REPEAT:
+    case B_MAXREPEAT:
+        if (cli_parse_long(optarg, 1, 100000000, &l) != 0)
+            return options_usage_error(CMD, "%s must be a whole number from 1 to 100000000, not '%s'",
+                                       c == B_REPEAT ? "--repeat" : "--max-repeat", optarg);
+        *(c == B_REPEAT ? &o->repeat : &o->max_repeat) = l;
+        return OPTIONS_RUN;
+    case B_WARMUP:
+        if (cli_parse_long(optarg, 1, 1000000, &l) != 0)
+            return options_usage_error(CMD, "--warmup must be a whole number from 1 to 1000000, not '%s'", optarg);
+        o->warmup = l;
+        return OPTIONS_RUN;
+    case B_WRITE: return parse_write(o, optarg);
+    case B_WRITEDIR: o->write_dir = optarg; return OPTIONS_RUN;
+    case B_JSON: o->json = 1; return OPTIONS_RUN;
+    case B_JSONOUT: o->json_out = optarg; return OPTIONS_RUN;
+    case 'q': o->quiet = 1; return OPTIONS_RUN;
+    default: return NOT_MINE;
+    }
+}
+
+/* getopt's problems: a missing value, an option that is not bench's. */
+static int getopt_problem(int c, char **argv)
+{
+    if (c == ':')
+        return options_usage_error(CMD, "option '%s' needs a value", argv[optind - 1]);
+    if (optopt)
+        return options_usage_error(CMD, "unknown option '-%c'", optopt);
+    return options_usage_error(CMD, "unknown option '%s'", argv[optind - 1]);
+}
+
+/* After the options: every list filled with its default. */
+static int bench_finish(bench_opts *o, const parse_state *st)
+{
+    int rc = select_finish(CMD, &o->params, &st->sel);
+    if (rc != OPTIONS_RUN)
+        return rc;
+    if (st->have_pending)
+        return options_usage_error(CMD, "%s needs a particle count N", kind_name(&st->pending));
     if (o->max_repeat < o->repeat)
         o->max_repeat = o->repeat;
     if (o->ninputs == 0) {
@@ -524,8 +451,45 @@ int bench_parse_options(int argc, char **argv, bench_opts *o)
     return OPTIONS_RUN;
 }
 
-const char *bench_field_name(jm_field f)
+int bench_parse_options(int argc, char **argv, bench_opts *o)
 {
-    return f == JM_FIELD_SPH ? "sph" : f == BENCH_FIELD_SPH_ANISO ? "sph-aniso" : "metasphere";
+    struct option longs[NOWN + MESH_OPTIONS_MAX + 1];
+    size_t nlong = NOWN;
+    memcpy(longs, bench_own, sizeof bench_own);
+    mesh_options_long(CLI_BENCH, longs, &nlong);
+    longs[nlong] = (struct option){0, 0, 0, 0};
+    memset(o, 0, sizeof *o);
+    o->radius = SCENE_DEFAULT_RADIUS;
+    o->min_time = 1.0;
+    o->repeat = 5;
+    o->warmup = 1;
+    o->max_repeat = 100000;
+    o->write_format = -1;
+    o->seed = 1;
+    o->templates = TPL_AUTO;
+
+    parse_state st;
+    memset(&st, 0, sizeof st);
+    int rc = OPTIONS_RUN, c;
+    optind = 0;
+    opterr = 0;
+    while (rc == OPTIONS_RUN && (c = getopt_long(argc, argv, "-:r:c:j:q", longs, NULL)) != -1) {
+        if (st.have_pending && c != 1)
+            return options_usage_error(CMD, "%s needs a particle count N: %s N or %s:N", kind_name(&st.pending),
+                                       kind_name(&st.pending), kind_name(&st.pending));
+        if (c == B_HELP) {
+            bench_help(stdout);
+            return OPTIONS_DONE;
+        }
+        rc = c == 1 || c == B_SCENE ? input_option(o, &st, c) : meshing_option(o, &st, c, argc, argv);
+        if (rc == NOT_MINE)
+            rc = case_option(o, c);
+        if (rc == NOT_MINE)
+            rc = timing_option(o, c);
+        if (rc == NOT_MINE)
+            rc = getopt_problem(c, argv);
+    }
+    if (rc != OPTIONS_RUN)
+        return rc;
+    return bench_finish(o, &st);
 }
-const char *bench_method_name(jm_method m) { return m == JM_METHOD_MC ? "mc" : "mt"; }

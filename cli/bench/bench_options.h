@@ -9,8 +9,4 @@
  *  printed) or a usage error (message printed), as options.h. */
 int bench_parse_options(int argc, char **argv, bench_opts *o);
 
-/** The --field and --method value of f and m: "metasphere", "sph"; "mt", "mc". */
-const char *bench_field_name(jm_field f);
-const char *bench_method_name(jm_method m);
-
 #endif

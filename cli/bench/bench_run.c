@@ -121,23 +121,14 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
     c->ok = 0;
     c->has_write = o->write_format >= 0;
 
-    jm_params p;
-    memset(&p, 0, sizeof p);
+    jm_params p = o->params;
     p.radius = (float)o->radius;
     p.cube_size = (float)c->cube;
     p.field = c->field == BENCH_FIELD_SPH_ANISO ? JM_FIELD_SPH : c->field;
     p.anisotropic = c->field == BENCH_FIELD_SPH_ANISO;
     p.method = c->method;
-    if (o->threshold_given)
-        p.threshold = (float)o->threshold;
-    p.smoothing_length = (float)o->smoothing;
-    p.link_distance = (float)o->link;
     p.threads = c->threads;
     p.no_templates = !c->templates;
-    p.smooth_iterations = o->smooth_iters;
-    p.smooth_normal_iterations = o->smooth_normal_iters;
-    p.simplify_error = (float)o->simplify;
-    select_copy(&p, &o->select);
 
     if (in->loaded != 1) {
         snprintf(c->err, sizeof c->err, "%s", in->err);
@@ -215,7 +206,7 @@ void bench_run_case(const bench_opts *o, const bench_input *in, bench_case *c, c
         c->reps++;
         if (c->reps == 1 || c->reps % 64 == 0)
             bench_progress(o, "bench: %s %s %s c%.3g %dT%s: run %zu", in->name,
-                           bench_field_name(c->field), bench_method_name(c->method), c->cube,
+                           cli_field_name(c->field), cli_method_name(c->method), c->cube,
                            c->threads, c->templates ? "" : " no-templates", c->reps);
     }
     for (int k = 0; k < ST_COUNT; k++)

@@ -79,8 +79,8 @@ void bench_table_row(const bench_opts *o, const bench_input *in, const bench_cas
         snprintf(name, sizeof name, "%.10s~%s", in->name, in->name + len - 11);
     else
         snprintf(name, sizeof name, "%s", in->name);
-    printf("%-22s %-4s %-2s %4.2g %3d %-3s ", name, c->field == JM_FIELD_SPH ? "sph" : c->field == BENCH_FIELD_SPH_ANISO ? "sphA" : "meta",
-           bench_method_name(c->method), c->cube, c->threads, c->templates ? "on" : "off");
+    printf("%-22s %-4s %-2s %4.2g %3d %-3s ", name, cli_field_column(c->field),
+           cli_method_name(c->method), c->cube, c->threads, c->templates ? "on" : "off");
     if (!c->ok) {
         printf("FAILED: %s\n", c->err);
         fflush(stdout);

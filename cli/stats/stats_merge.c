@@ -122,130 +122,173 @@ static const struct option merge_long[] = {
     {0, 0, 0, 0},
 };
 
-static int merge(int argc, char **argv)
+/* The command line of `stats merge`. */
+typedef struct merge_args {
+    const char *out, *svg;
+    int quiet;
+    char **files;
+    size_t nfiles;
+} merge_args;
+
+/* Reads argv into a: OPTIONS_RUN, OPTIONS_DONE (--help printed) or a usage
+ * error (printed). */
+static int merge_parse(int argc, char **argv, merge_args *a)
 {
-    const char *cmd = "stats merge", *out = NULL, *svg = NULL;
-    int quiet = 0, c;
+    const char *cmd = "stats merge";
+    int c;
+    memset(a, 0, sizeof *a);
     optind = 0;
     opterr = 0;
     while ((c = getopt_long(argc, argv, ":o:q", merge_long, NULL)) != -1) {
         switch (c) {
-        case 'o': out = optarg; break;
-        case 's': svg = optarg; break;
-        case 'q': quiet = 1; break;
-        case 'h': stats_merge_help(stdout); return EXIT_ALL_OK;
+        case 'o': a->out = optarg; break;
+        case 's': a->svg = optarg; break;
+        case 'q': a->quiet = 1; break;
+        case 'h': stats_merge_help(stdout); return OPTIONS_DONE;
         case ':': return options_usage_error(cmd, "option '%s' needs a value", argv[optind - 1]);
         default: return options_usage_error(cmd, "unknown option '%s'", argv[optind - 1]);
         }
     }
-    size_t nfiles = (size_t)(argc - optind);
-    char **files = argv + optind;
-    if (nfiles == 0)
+    a->nfiles = (size_t)(argc - optind);
+    a->files = argv + optind;
+    if (a->nfiles == 0)
         return options_usage_error(cmd, "no statistics files to merge");
-    if (!out)
+    if (!a->out)
         return options_usage_error(cmd, "no output: give -o FILE.csv or FILE.json");
-    if (!stats_path_ok(out))
-        return options_usage_error(cmd, "-o FILE must end in .csv or .json, not '%s'", out);
-    int clash = refuse_inputs(cmd, files, nfiles, out, svg);
-    if (clash != EXIT_ALL_OK)
-        return clash;
+    if (!stats_path_ok(a->out))
+        return options_usage_error(cmd, "-o FILE must end in .csv or .json, not '%s'", a->out);
+    int clash = refuse_inputs(cmd, a->files, a->nfiles, a->out, a->svg);
+    return clash == EXIT_ALL_OK ? OPTIONS_RUN : clash;
+}
 
-    stats_log in, merged;
-    memset(&in, 0, sizeof in);
-    memset(&merged, 0, sizeof merged);
-    size_t *first = calloc(nfiles + 1, sizeof *first); /* each file's first record */
-    row *rows = NULL;
-    double wall_max = 0, wall_sum = 0;
+/* What the files' summaries say together. */
+typedef struct run_summary {
+    stats_read_summary first; /* the first file's */
+    int same_field;           /* every file names the same field and method */
+    double wall_max, wall_sum;
+} run_summary;
+
+/* Reads every file into in, first[f] its first record. EXIT_ALL_OK or
+ * EXIT_SOME_FAILED (printed). */
+static int merge_read(const merge_args *a, stats_log *in, size_t *first, run_summary *run)
+{
+    const char *cmd = "stats merge";
     char err[1400];
-    int rc = EXIT_ALL_OK;
-    if (!first)
-        goto nomem;
-    stats_read_summary run0;
-    int same_field = 1;
-    for (size_t f = 0; f < nfiles; f++) {
+    run->same_field = 1;
+    for (size_t f = 0; f < a->nfiles; f++) {
         stats_read_summary rs;
-        first[f] = in.count;
-        if (stats_read(files[f], &in, &rs, err, sizeof err) != 0) {
+        first[f] = in->count;
+        if (stats_read(a->files[f], in, &rs, err, sizeof err) != 0) {
             fprintf(stderr, "jetmesh %s: %s\n", cmd, err);
-            rc = EXIT_SOME_FAILED;
-            goto done;
+            return EXIT_SOME_FAILED;
         }
         double wall = rs.wall_seconds;
-        wall_sum += wall;
-        if (wall > wall_max)
-            wall_max = wall;
+        run->wall_sum += wall;
+        if (wall > run->wall_max)
+            run->wall_max = wall;
         /* the field of the run: kept when every file says the same */
+        const stats_read_summary *r0 = &run->first;
         if (f == 0)
-            run0 = rs;
-        else if (strcmp(rs.field, run0.field) != 0 || strcmp(rs.method, run0.method) != 0) {
-            if (same_field && !quiet)
+            run->first = rs;
+        else if (strcmp(rs.field, r0->field) != 0 || strcmp(rs.method, r0->method) != 0) {
+            if (run->same_field && !a->quiet)
                 fprintf(stderr, "jetmesh %s: warning: %s was meshed with field %s, method %s, but %s with %s, %s\n",
-                        cmd, files[0], run0.field[0] ? run0.field : "?", run0.method[0] ? run0.method : "?",
-                        files[f], rs.field[0] ? rs.field : "?", rs.method[0] ? rs.method : "?");
-            same_field = 0;
+                        cmd, a->files[0], r0->field[0] ? r0->field : "?", r0->method[0] ? r0->method : "?",
+                        a->files[f], rs.field[0] ? rs.field : "?", rs.method[0] ? rs.method : "?");
+            run->same_field = 0;
         }
     }
-    first[nfiles] = in.count;
-    rows = malloc((in.count ? in.count : 1) * sizeof *rows);
+    first[a->nfiles] = in->count;
+    return EXIT_ALL_OK;
+}
+
+/* One row per frame of in into merged (see stats_merge_help). EXIT_ALL_OK,
+ * EXIT_SOME_FAILED (a frame converted twice, printed) or EXIT_RESOURCE. */
+static int merge_rows(const merge_args *a, const stats_log *in, const size_t *first, stats_log *merged)
+{
+    row *rows = malloc((in->count ? in->count : 1) * sizeof *rows);
     if (!rows)
-        goto nomem;
-    for (size_t f = 0, i = 0; f < nfiles; f++)
+        return EXIT_RESOURCE;
+    for (size_t f = 0, i = 0; f < a->nfiles; f++)
         for (; i < first[f + 1]; i++)
-            rows[i] = (row){&in.items[i], f};
-    qsort(rows, in.count, sizeof *rows, cmp_row);
-    for (size_t i = 0; i < in.count;) {
+            rows[i] = (row){&in->items[i], f};
+    qsort(rows, in->count, sizeof *rows, cmp_row);
+    int rc = EXIT_ALL_OK;
+    for (size_t i = 0; i < in->count && rc == EXIT_ALL_OK;) {
         size_t j = i + 1, best = i;
-        for (; j < in.count && same_frame(&rows[i], &rows[j]); j++) {
+        for (; j < in->count && same_frame(&rows[i], &rows[j]); j++) {
             if (rows[j].rec->status == STATS_OK && rows[best].rec->status == STATS_OK) {
                 fprintf(stderr,
-                        "jetmesh %s: frame %ld (%s) was converted in both %s and %s: the shards overlap, "
+                        "jetmesh stats merge: frame %ld (%s) was converted in both %s and %s: the shards overlap, "
                         "or a run was repeated without --resume; merge only one of them\n",
-                        cmd, rows[j].rec->index, rows[j].rec->input, files[rows[best].file],
-                        files[rows[j].file]);
+                        rows[j].rec->index, rows[j].rec->input, a->files[rows[best].file], a->files[rows[j].file]);
                 rc = EXIT_SOME_FAILED;
-                goto done;
+                break;
             }
             if (rank(rows[j].rec->status) >= rank(rows[best].rec->status))
                 best = j; /* the later file wins a tie */
         }
-        if (copy_record(&merged, rows[best].rec) != 0)
-            goto nomem;
+        if (rc == EXIT_ALL_OK && copy_record(merged, rows[best].rec) != 0)
+            rc = EXIT_RESOURCE;
         i = j;
     }
+    free(rows);
+    return rc;
+}
+
+/* Writes the merged report, its chart and the summary line. */
+static int merge_write(const merge_args *a, const stats_log *merged, const run_summary *run)
+{
+    const char *cmd = "stats merge";
+    char err[1400];
     stats_summary sum;
-    stats_summarize(&merged, wall_max * 1000.0, &sum);
-    sum.shards = nfiles;
-    sum.shards_wall_seconds = wall_sum;
+    stats_summarize(merged, run->wall_max * 1000.0, &sum);
+    sum.shards = a->nfiles;
+    sum.shards_wall_seconds = run->wall_sum;
     sum.neighbours = -1;
-    if (nfiles && same_field && run0.field[0] && run0.method[0]) {
-        sum.field = run0.field;
-        sum.method = run0.method;
-        sum.field_choice = run0.field_choice[0] ? run0.field_choice : "given";
+    if (a->nfiles && run->same_field && run->first.field[0] && run->first.method[0]) {
+        sum.field = run->first.field;
+        sum.method = run->first.method;
+        sum.field_choice = run->first.field_choice[0] ? run->first.field_choice : "given";
     }
-    platform_make_dirs(out, 1); /* a failure shows when writing */
-    if (stats_write(out, &merged, &sum, err, sizeof err) != 0) {
+    platform_make_dirs(a->out, 1); /* a failure shows when writing */
+    if (stats_write(a->out, merged, &sum, err, sizeof err) != 0) {
         fprintf(stderr, "jetmesh %s: cannot write the report: %s\n", cmd, err);
-        rc = EXIT_SOME_FAILED;
-        goto done;
+        return EXIT_SOME_FAILED;
     }
-    if (svg) {
-        platform_make_dirs(svg, 1);
-        if (stats_write_svg(svg, &merged, &sum, err, sizeof err) != 0) {
+    if (a->svg) {
+        platform_make_dirs(a->svg, 1);
+        if (stats_write_svg(a->svg, merged, &sum, err, sizeof err) != 0) {
             fprintf(stderr, "jetmesh %s: cannot write the chart: %s\n", cmd, err);
-            rc = EXIT_SOME_FAILED;
-            goto done;
+            return EXIT_SOME_FAILED;
         }
     }
-    if (!quiet)
-        printf("merged %zu file%s: %zu frames (%zu ok, %zu failed, %zu skipped) -> %s%s%s\n", nfiles,
-               nfiles == 1 ? "" : "s", sum.frames, sum.ok, sum.failed, sum.skipped, out, svg ? ", " : "",
-               svg ? svg : "");
-    goto done;
-nomem:
-    fprintf(stderr, "jetmesh %s: out of memory\n", cmd);
-    rc = EXIT_RESOURCE;
-done:
-    free(rows);
+    if (!a->quiet)
+        printf("merged %zu file%s: %zu frames (%zu ok, %zu failed, %zu skipped) -> %s%s%s\n", a->nfiles,
+               a->nfiles == 1 ? "" : "s", sum.frames, sum.ok, sum.failed, sum.skipped, a->out, a->svg ? ", " : "",
+               a->svg ? a->svg : "");
+    return EXIT_ALL_OK;
+}
+
+static int merge(int argc, char **argv)
+{
+    merge_args a;
+    int rc = merge_parse(argc, argv, &a);
+    if (rc != OPTIONS_RUN)
+        return rc == OPTIONS_DONE ? EXIT_ALL_OK : rc;
+    stats_log in, merged;
+    memset(&in, 0, sizeof in);
+    memset(&merged, 0, sizeof merged);
+    run_summary run;
+    memset(&run, 0, sizeof run);
+    size_t *first = calloc(a.nfiles + 1, sizeof *first); /* each file's first record */
+    rc = first ? merge_read(&a, &in, first, &run) : EXIT_RESOURCE;
+    if (rc == EXIT_ALL_OK)
+        rc = merge_rows(&a, &in, first, &merged);
+    if (rc == EXIT_ALL_OK)
+        rc = merge_write(&a, &merged, &run);
+    if (rc == EXIT_RESOURCE)
+        fprintf(stderr, "jetmesh stats merge: out of memory\n");
     free(first);
     stats_free(&in);
     stats_free(&merged);

@@ -1,77 +1,17 @@
-/* stats_read.c - reads a --stats report (CSV or JSON) back into per-frame records. */
+/* stats_read.c - reads a --stats report (CSV or JSON) back into per-frame records, with the CLI's text readers (cli/text/). */
 #include "stats_read.h"
-
-#include <stddef.h>
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../text/csv_read.h"
+#include "../text/json_read.h"
+
 #define READ_MAX ((size_t)1 << 30) /* a report of 1 GiB is millions of frames */
-
-typedef struct reader {
-    const char *path;
-    const char *s, *end, *p;
-    char *err;
-    size_t errlen;
-} reader;
-
-static int line_of(const reader *r)
-{
-    int line = 1;
-    for (const char *q = r->s; q < r->p && q < r->end; q++)
-        line += *q == '\n';
-    return line;
-}
-
-static int fail(reader *r, const char *what)
-{
-    snprintf(r->err, r->errlen, "%s:%d: %s", r->path, line_of(r), what);
-    return -1;
-}
-
-static char *slurp(const char *path, size_t *len, char *err, size_t errlen)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(err, errlen, "%s: %s", path, strerror(errno));
-        return NULL;
-    }
-    size_t cap = 65536, n = 0;
-    char *buf = malloc(cap + 1);
-    while (buf) {
-        size_t got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (n < cap)
-            break;
-        if (cap >= READ_MAX) {
-            snprintf(err, errlen, "%s: larger than %zu bytes", path, READ_MAX);
-            free(buf);
-            fclose(f);
-            return NULL;
-        }
-        char *nb = realloc(buf, cap * 2 + 1);
-        if (!nb) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = nb;
-        cap *= 2;
-    }
-    if (!buf || ferror(f)) {
-        snprintf(err, errlen, "%s: %s", path, buf ? "read error" : "out of memory");
-        free(buf);
-        fclose(f);
-        return NULL;
-    }
-    fclose(f);
-    buf[n] = '\0';
-    *len = n;
-    return buf;
-}
 
 static int parse_size(const char *t, size_t *out)
 {
@@ -174,98 +114,6 @@ static stats_record *new_record(stats_log *log)
 
 /* ---- CSV ---------------------------------------------------------------- */
 
-/* One field at r->p (RFC 4180), malloc'd into *out; r->p left on the
- * separator (',', '\n' or the end). */
-static int csv_field(reader *r, char **out)
-{
-    size_t cap = 32, n = 0;
-    char *b = malloc(cap);
-    if (!b)
-        return fail(r, "out of memory");
-    const char *start = r->p;
-    int quoted = r->p < r->end && *r->p == '"';
-    if (quoted)
-        r->p++;
-    for (;;) {
-        if (r->p >= r->end) {
-            if (quoted) {
-                free(b);
-                r->p = start;
-                return fail(r, "a quoted field does not end");
-            }
-            break;
-        }
-        char c = *r->p;
-        if (quoted && c == '"') {
-            if (r->p + 1 < r->end && r->p[1] == '"') {
-                r->p += 2;
-            } else {
-                r->p++;
-                quoted = 0;
-                continue;
-            }
-        } else if (!quoted && (c == ',' || c == '\n')) {
-            break;
-        } else {
-            r->p++;
-        }
-        if (!quoted && c == '\r' && r->p < r->end && *r->p == '\n')
-            continue; /* CRLF */
-        if (n + 2 > cap) {
-            char *nb = realloc(b, cap *= 2);
-            if (!nb) {
-                free(b);
-                return fail(r, "out of memory");
-            }
-            b = nb;
-        }
-        b[n++] = c;
-    }
-    b[n] = '\0';
-    *out = b;
-    return 0;
-}
-
-static void free_fields(char **f, size_t n)
-{
-    for (size_t i = 0; f && i < n; i++)
-        free(f[i]);
-    free(f);
-}
-
-/* The fields of one CSV line; *n set. Leaves r->p after the newline. */
-static int csv_line(reader *r, char ***fields, size_t *n)
-{
-    size_t cap = 32;
-    *n = 0;
-    *fields = malloc(cap * sizeof **fields);
-    if (!*fields)
-        return fail(r, "out of memory");
-    for (;;) {
-        char *f = NULL;
-        if (csv_field(r, &f) != 0) {
-            free_fields(*fields, *n);
-            *fields = NULL;
-            return -1;
-        }
-        if (*n == cap) {
-            char **nf = realloc(*fields, (cap *= 2) * sizeof **fields);
-            if (!nf) {
-                free(f);
-                free_fields(*fields, *n);
-                *fields = NULL;
-                return fail(r, "out of memory");
-            }
-            *fields = nf;
-        }
-        (*fields)[(*n)++] = f;
-        if (r->p >= r->end)
-            return 0;
-        if (*r->p++ == '\n')
-            return 0;
-    }
-}
-
 /* a summary value into its place in sum; unknown keys are ignored */
 static void summary_value(stats_read_summary *sum, const char *key, size_t klen, const char *v, size_t vlen)
 {
@@ -295,7 +143,7 @@ static void summary_value(stats_read_summary *sum, const char *key, size_t klen,
         }
 }
 
-static int read_csv(reader *r, stats_log *log, stats_read_summary *sum)
+static int read_csv(text_cursor *r, stats_log *log, stats_read_summary *sum)
 {
     char **head = NULL, **row = NULL;
     size_t nh = 0, nr = 0;
@@ -322,7 +170,7 @@ static int read_csv(reader *r, stats_log *log, stats_read_summary *sum)
         }
         if (!head) {
             const char *hstart = r->p;
-            if (csv_line(r, &head, &nh) != 0) {
+            if (csv_read_line(r, &head, &nh) != 0) {
                 rc = -1;
                 break;
             }
@@ -332,265 +180,43 @@ static int read_csv(reader *r, stats_log *log, stats_read_summary *sum)
                 has_status |= strcmp(head[i], "status") == 0;
             }
             if (!has_index || !has_status)
-                rc = (r->p = hstart, fail(r, "not a jetmesh statistics CSV (no index and status columns in its header)"));
+                rc = (r->p = hstart, text_fail(r, "not a jetmesh statistics CSV (no index and status columns in its header)"));
             continue;
         }
         const char *start = r->p;
-        if (csv_line(r, &row, &nr) != 0) {
+        if (csv_read_line(r, &row, &nr) != 0) {
             rc = -1;
             break;
         }
         if (nr != nh) {
             r->p = start;
-            rc = fail(r, "a row with another number of fields than the header");
+            rc = text_fail(r, "a row with another number of fields than the header");
         } else {
             stats_record *rec = new_record(log);
             if (!rec)
-                rc = fail(r, "out of memory");
+                rc = text_fail(r, "out of memory");
             for (size_t i = 0; rc == 0 && i < nr; i++) {
                 int s = set_field(rec, head[i], row[i]);
                 if (s < 0) {
                     char msg[300];
                     snprintf(msg, sizeof msg, "bad %s '%.200s'", head[i], row[i]);
                     r->p = start;
-                    rc = fail(r, msg);
+                    rc = text_fail(r, msg);
                 }
             }
         }
-        free_fields(row, nr);
+        csv_free_fields(row, nr);
         row = NULL;
     }
     if (rc == 0 && !head)
-        rc = fail(r, "empty: no header line");
-    free_fields(head, nh);
+        rc = text_fail(r, "empty: no header line");
+    csv_free_fields(head, nh);
     return rc;
 }
 
 /* ---- JSON --------------------------------------------------------------- */
 
-static void ws(reader *r)
-{
-    while (r->p < r->end && (*r->p == ' ' || *r->p == '\t' || *r->p == '\n' || *r->p == '\r'))
-        r->p++;
-}
-
-static int expect(reader *r, char c)
-{
-    ws(r);
-    if (r->p >= r->end || *r->p != c) {
-        char msg[64];
-        snprintf(msg, sizeof msg, "expected '%c' in the JSON", c);
-        return fail(r, msg);
-    }
-    r->p++;
-    return 0;
-}
-
-static void put_utf8(char *b, size_t *n, unsigned v)
-{
-    if (v < 0x80) {
-        b[(*n)++] = (char)v;
-    } else if (v < 0x800) {
-        b[(*n)++] = (char)(0xc0 | (v >> 6));
-        b[(*n)++] = (char)(0x80 | (v & 0x3f));
-    } else if (v < 0x10000) {
-        b[(*n)++] = (char)(0xe0 | (v >> 12));
-        b[(*n)++] = (char)(0x80 | ((v >> 6) & 0x3f));
-        b[(*n)++] = (char)(0x80 | (v & 0x3f));
-    } else {
-        b[(*n)++] = (char)(0xf0 | (v >> 18));
-        b[(*n)++] = (char)(0x80 | ((v >> 12) & 0x3f));
-        b[(*n)++] = (char)(0x80 | ((v >> 6) & 0x3f));
-        b[(*n)++] = (char)(0x80 | (v & 0x3f));
-    }
-}
-
-static int hex4(reader *r, unsigned *v)
-{
-    *v = 0;
-    for (int i = 0; i < 4; i++) {
-        if (r->p >= r->end)
-            return -1;
-        char c = *r->p++;
-        unsigned d = c >= '0' && c <= '9' ? (unsigned)(c - '0')
-                     : c >= 'a' && c <= 'f' ? (unsigned)(c - 'a' + 10)
-                     : c >= 'A' && c <= 'F' ? (unsigned)(c - 'A' + 10) : 16u;
-        if (d > 15)
-            return -1;
-        *v = *v * 16 + d;
-    }
-    return 0;
-}
-
-/* A JSON string, decoded into a malloc'd UTF-8 string. */
-static int json_str(reader *r, char **out)
-{
-    if (expect(r, '"') != 0)
-        return -1;
-    size_t cap = 64, n = 0;
-    char *b = malloc(cap + 8);
-    if (!b)
-        return fail(r, "out of memory");
-    for (;;) {
-        if (r->p >= r->end) {
-            free(b);
-            return fail(r, "a JSON string does not end");
-        }
-        if (n + 8 > cap) {
-            char *nb = realloc(b, (cap *= 2) + 8);
-            if (!nb) {
-                free(b);
-                return fail(r, "out of memory");
-            }
-            b = nb;
-        }
-        char c = *r->p++;
-        if (c == '"')
-            break;
-        if (c != '\\') {
-            b[n++] = c;
-            continue;
-        }
-        if (r->p >= r->end)
-            continue;
-        c = *r->p++;
-        unsigned v;
-        switch (c) {
-        case 'n': b[n++] = '\n'; break;
-        case 'r': b[n++] = '\r'; break;
-        case 't': b[n++] = '\t'; break;
-        case 'b': b[n++] = '\b'; break;
-        case 'f': b[n++] = '\f'; break;
-        case 'u':
-            if (hex4(r, &v) != 0) {
-                free(b);
-                return fail(r, "a bad \\u escape in a JSON string");
-            }
-            if (v >= 0xd800 && v <= 0xdbff && r->end - r->p >= 6 && r->p[0] == '\\' && r->p[1] == 'u') {
-                unsigned lo;
-                r->p += 2;
-                if (hex4(r, &lo) == 0 && lo >= 0xdc00 && lo <= 0xdfff)
-                    v = 0x10000 + ((v - 0xd800) << 10) + (lo - 0xdc00);
-                else
-                    v = 0xfffd;
-            } else if (v >= 0xd800 && v <= 0xdfff)
-                v = 0xfffd;
-            put_utf8(b, &n, v);
-            break;
-        default: b[n++] = c; break; /* \" \\ \/ */
-        }
-    }
-    b[n] = '\0';
-    *out = b;
-    return 0;
-}
-
-/* A scalar's text: a decoded string, a number's or literal's characters,
- * or NULL for null. *is_container set for '{' or '['. */
-static int json_scalar(reader *r, char **out, int *is_container)
-{
-    ws(r);
-    *out = NULL;
-    *is_container = 0;
-    if (r->p >= r->end)
-        return fail(r, "the JSON ends early");
-    if (*r->p == '"')
-        return json_str(r, out);
-    if (*r->p == '{' || *r->p == '[') {
-        *is_container = 1;
-        return 0;
-    }
-    const char *s = r->p;
-    while (r->p < r->end && !strchr(",}] \t\r\n", *r->p))
-        r->p++;
-    size_t len = (size_t)(r->p - s);
-    if (len == 0)
-        return fail(r, "a JSON value expected");
-    if (len == 4 && strncmp(s, "null", 4) == 0)
-        return 0;
-    *out = malloc(len + 1);
-    if (!*out)
-        return fail(r, "out of memory");
-    memcpy(*out, s, len);
-    (*out)[len] = '\0';
-    return 0;
-}
-
-static int json_skip(reader *r, int depth);
-
-/* Skips the object or array at r->p. */
-static int json_skip_container(reader *r, int depth)
-{
-    if (depth > 64)
-        return fail(r, "JSON nested too deeply");
-    ws(r);
-    char close = *r->p == '{' ? '}' : ']';
-    int object = close == '}';
-    r->p++;
-    ws(r);
-    if (r->p < r->end && *r->p == close) {
-        r->p++;
-        return 0;
-    }
-    for (;;) {
-        if (object) {
-            char *k;
-            if (json_str(r, &k) != 0)
-                return -1;
-            free(k);
-            if (expect(r, ':') != 0)
-                return -1;
-        }
-        if (json_skip(r, depth + 1) != 0)
-            return -1;
-        ws(r);
-        if (r->p < r->end && *r->p == ',') {
-            r->p++;
-            continue;
-        }
-        return expect(r, close);
-    }
-}
-
-static int json_skip(reader *r, int depth)
-{
-    char *t;
-    int cont;
-    if (json_scalar(r, &t, &cont) != 0)
-        return -1;
-    free(t);
-    return cont ? json_skip_container(r, depth) : 0;
-}
-
-/* Calls each(r, key, user) for every member of the object at r->p; each
- * consumes the value. */
-static int json_members(reader *r, int (*each)(reader *, const char *, void *), void *user)
-{
-    if (expect(r, '{') != 0)
-        return -1;
-    ws(r);
-    if (r->p < r->end && *r->p == '}') {
-        r->p++;
-        return 0;
-    }
-    for (;;) {
-        char *k;
-        if (json_str(r, &k) != 0)
-            return -1;
-        int rc = expect(r, ':') == 0 ? each(r, k, user) : -1;
-        free(k);
-        if (rc != 0)
-            return -1;
-        ws(r);
-        if (r->p < r->end && *r->p == ',') {
-            r->p++;
-            continue;
-        }
-        return expect(r, '}');
-    }
-}
-
-static int frame_member(reader *r, const char *key, void *user)
+static int frame_member(text_cursor *r, const char *key, void *user)
 {
     stats_record *rec = user;
     char *t;
@@ -598,28 +224,43 @@ static int frame_member(reader *r, const char *key, void *user)
     if (json_scalar(r, &t, &cont) != 0)
         return -1;
     if (cont)
-        return json_skip_container(r, 1);
+        return json_skip_container(r);
     int s = set_field(rec, key, t);
     free(t);
     if (s < 0) {
         char msg[200];
         snprintf(msg, sizeof msg, "bad \"%.100s\" of a frame", key);
-        return fail(r, msg);
+        return text_fail(r, msg);
     }
     return 0;
 }
 
-static int summary_member(reader *r, const char *key, void *user)
+static int summary_member(text_cursor *r, const char *key, void *user)
 {
     char *t;
     int cont;
     if (json_scalar(r, &t, &cont) != 0)
         return -1;
     if (cont)
-        return json_skip_container(r, 1);
+        return json_skip_container(r);
     if (t)
         summary_value(user, key, strlen(key), t, strlen(t));
     free(t);
+    return 0;
+}
+
+/* One element of "frames": a record with its index and status. */
+static int frame(text_cursor *r, void *user)
+{
+    stats_record *rec = new_record(user);
+    if (!rec)
+        return text_fail(r, "out of memory");
+    rec->index = -1;
+    rec->status = (stats_status)-1;
+    if (json_members(r, frame_member, rec) != 0)
+        return -1;
+    if (rec->index < 0 || (int)rec->status < 0)
+        return text_fail(r, "a frame without index or status");
     return 0;
 }
 
@@ -629,59 +270,36 @@ typedef struct top {
     int frames_seen;
 } top;
 
-static int top_member(reader *r, const char *key, void *user)
+static int top_member(text_cursor *r, const char *key, void *user)
 {
     top *t = user;
     if (strcmp(key, "summary") == 0)
         return json_members(r, summary_member, t->sum);
     if (strcmp(key, "frames") != 0)
-        return json_skip(r, 1);
+        return json_skip(r);
     t->frames_seen = 1;
-    if (expect(r, '[') != 0)
-        return -1;
-    ws(r);
-    if (r->p < r->end && *r->p == ']') {
-        r->p++;
-        return 0;
-    }
-    for (;;) {
-        stats_record *rec = new_record(t->log);
-        if (!rec)
-            return fail(r, "out of memory");
-        rec->index = -1;
-        rec->status = (stats_status)-1;
-        if (json_members(r, frame_member, rec) != 0)
-            return -1;
-        if (rec->index < 0 || (int)rec->status < 0)
-            return fail(r, "a frame without index or status");
-        ws(r);
-        if (r->p < r->end && *r->p == ',') {
-            r->p++;
-            continue;
-        }
-        return expect(r, ']');
-    }
+    return json_elements(r, frame, t->log);
 }
 
-static int read_json(reader *r, stats_log *log, stats_read_summary *sum)
+static int read_json(text_cursor *r, stats_log *log, stats_read_summary *sum)
 {
     top t = {log, sum, 0};
     if (json_members(r, top_member, &t) != 0)
         return -1;
     if (!t.frames_seen)
-        return fail(r, "not a jetmesh statistics JSON (no \"frames\")");
+        return text_fail(r, "not a jetmesh statistics JSON (no \"frames\")");
     return 0;
 }
 
 int stats_read(const char *path, stats_log *log, stats_read_summary *sum, char *err, size_t errlen)
 {
     size_t len = 0;
-    char *text = slurp(path, &len, err, errlen);
+    char *text = text_slurp(path, READ_MAX, &len, err, errlen);
     if (!text)
         return -1;
-    reader r = {path, text, text + len, text, err, errlen};
+    text_cursor r = {path, text, text + len, text, err, errlen};
     memset(sum, 0, sizeof *sum);
-    ws(&r);
+    json_ws(&r);
     size_t before = log->count;
     int rc = r.p < r.end && *r.p == '{' ? read_json(&r, log, sum) : (r.p = text, read_csv(&r, log, sum));
     if (rc != 0) { /* drop this file's records */

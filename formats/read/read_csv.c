@@ -202,179 +202,252 @@ jmf_status jmr_read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
     return st;
 }
 
+/* Where the reading of a file stands. */
+typedef struct csv_state {
+    const jmr_ctx *ctx;
+    jmr_points *pts;
+    csv_attrs *ca;
+    size_t line, ncols, header_line;
+    long col[4]; /* x, y, z, id */
+    int have_sep, have_cols, attrs_ready;
+    char sep;
+} csv_state;
+
+/* 1 for a blank or comment line; JMF_E_FORMAT (failed) for a control byte;
+ * else 0. */
+static int skip_line(const csv_state *s, const char *q, size_t n, jmf_status *st)
+{
+    size_t i = 0;
+    while (i < n && is_blank(q[i])) i++;
+    if (i == n || q[i] == '#') return 1;
+    for (i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)q[i];
+        if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f) {
+            *st = jmr_fail(s->ctx, JMF_E_FORMAT, jmr_line(s->line),
+                           "unexpected control byte 0x%02x in column %zu; expected text", c, i + 1);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The header's column names: x, y, z and id by name, attributes kept. */
+static jmf_status read_header(csv_state *s, const char *q, size_t n, size_t nf)
+{
+    int best[3] = { 0, 0, 0 }, exact, named = 0;
+    const jmr_ctx *ctx = s->ctx;
+    long *col = s->col;
+    splitter sp;
+    field f;
+    size_t k;
+    jmf_status st;
+    s->ncols = nf;
+    s->header_line = s->line;
+    split_init(&sp, q, n, s->sep);
+    for (k = 0; next_field(&sp, &f); k++) {
+        int a = axis_of(f, &exact);
+        if (a >= 0 && (col[a] < 0 || (exact && !best[a]))) {
+            col[a] = (long)k;
+            best[a] = exact;
+        }
+        if (col[3] < 0 && (jmr_ieq(f.s, f.n, "id") || jmr_ieq(f.s, f.n, "particle_id")))
+            col[3] = (long)k;
+    }
+    for (k = 0; k < 3; k++) named += col[k] >= 0;
+    if (named == 0 && nf - (col[3] >= 0) < 3)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                        "header has %zu %s-separated column(s) and no x, y, z names; expected "
+                        "at least 3 columns",
+                        nf, sep_name(s->sep));
+    if (named == 3) {
+        s->have_cols = 1;
+    } else if (named > 0) {
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                        "header names only some of the x, y, z columns (missing %s); expected "
+                        "all three or none",
+                        col[0] < 0 ? "x" : col[1] < 0 ? "y" : "z");
+    }
+    if (col[3] >= 0) {
+        st = jmr_points_want_ids(s->pts, ctx);
+        if (st) return st;
+    }
+    if (jmr_attrs_wanted(ctx)) {
+        csv_attrs *ca = s->ca;
+        ca->names = calloc(nf ? nf : 1, sizeof *ca->names);
+        ca->lens = calloc(nf ? nf : 1, sizeof *ca->lens);
+        if (!ca->names || !ca->lens)
+            return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for the header");
+        ca->ncols = nf;
+        split_init(&sp, q, n, s->sep);
+        for (k = 0; next_field(&sp, &f); k++) {
+            ca->names[k] = f.s;
+            ca->lens[k] = f.n;
+        }
+    }
+    return JMF_OK;
+}
+
+/* The first content line: the separator, and the header if it is one
+ * (*header set). */
+static jmf_status first_line(csv_state *s, const char *q, size_t n, int *header)
+{
+    size_t cnt[3] = { 0, 0, 0 }, i, k, nf = 0;
+    static const char seps[3] = { ',', ';', '\t' };
+    splitter sp;
+    field f;
+    for (i = 0; i < n; i++)
+        for (k = 0; k < 3; k++)
+            if (q[i] == seps[k]) cnt[k]++;
+    s->sep = 0;
+    for (k = 0, i = 0; k < 3; k++)
+        if (cnt[k] > i) { i = cnt[k]; s->sep = seps[k]; }
+    s->have_sep = 1;
+
+    /* header? none of the fields is a number */
+    split_init(&sp, q, n, s->sep);
+    *header = 1;
+    while (next_field(&sp, &f)) {
+        nf++;
+        if (is_number(f)) *header = 0;
+    }
+    if (*header)
+        return read_header(s, q, n, nf);
+    s->ncols = nf;
+    return JMF_OK;
+}
+
+/* The first data row without x, y, z names: its first three numeric
+ * columns (not id). */
+static jmf_status pick_columns(csv_state *s, const char *q, size_t n)
+{
+    int got = 0;
+    splitter sp;
+    field f;
+    split_init(&sp, q, n, s->sep);
+    for (size_t k = 0; got < 3 && next_field(&sp, &f); k++)
+        if ((long)k != s->col[3] && is_number(f)) s->col[got++] = (long)k;
+    if (got < 3)
+        return jmr_fail(s->ctx, JMF_E_FORMAT, jmr_line(s->line),
+                        "expected at least 3 numeric %s-separated columns for x, y, z, found %d",
+                        sep_name(s->sep), got);
+    s->have_cols = 1;
+    return JMF_OK;
+}
+
+/* A row's x, y, z, id and attributes added to the points. */
+static jmf_status add_row(csv_state *s, const field val[4])
+{
+    const jmr_ctx *ctx = s->ctx;
+    csv_attrs *ca = s->ca;
+    const long *col = s->col;
+    double v[3];
+    uint32_t id = 0;
+    jmf_status st;
+    for (size_t k = 0; k < 3; k++)
+        if (!jmr_parse_double(val[k].s, val[k].n, &v[k]))
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                            "column %ld (%c): expected a number, found '%.*s'", col[k] + 1,
+                            (char)('x' + k), SHOW(val[k]));
+    if (col[3] >= 0) {
+        double d;
+        if (!jmr_parse_double(val[3].s, val[3].n, &d))
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                            "column %ld (id): expected an integer id, found '%.*s'", col[3] + 1,
+                            SHOW(val[3]));
+        if (d >= 0 && d <= 4294967295.0 && d == (double)(uint32_t)d)
+            id = (uint32_t)d;
+        else
+            s->pts->ids_bad = 1;
+    }
+    st = jmr_points_add(s->pts, ctx, v[0], v[1], v[2], id, jmr_line(s->line));
+    if (st) return st;
+    for (size_t a = 0; a < ca->nlist; a++) {
+        double t[4] = {0, 0, 0, 0};
+        for (size_t c = 0; c < ca->ncols; c++)
+            if (ca->attr[c] == ca->list[a]) t[ca->comp[c]] = ca->row[c];
+        st = jmr_attr_push(ca->list[a], ctx, t);
+        if (st) return st;
+    }
+    return JMF_OK;
+}
+
+/* A data row: its fields split, counted and added. */
+static jmf_status data_row(csv_state *s, const char *q, size_t n)
+{
+    const jmr_ctx *ctx = s->ctx;
+    csv_attrs *ca = s->ca;
+    splitter sp;
+    field f, val[4];
+    size_t nf = 0;
+    split_init(&sp, q, n, s->sep);
+    memset(val, 0, sizeof val);
+    while (next_field(&sp, &f)) {
+        for (size_t k = 0; k < 4; k++)
+            if (s->col[k] == (long)nf) val[k] = f;
+        if (ca->attr && nf < ca->ncols && ca->attr[nf]) {
+            double d;
+            if (!jmr_parse_double(f.s, f.n, &d))
+                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                                "column %zu (%s): expected a number, found '%.*s'", nf + 1, ca->attr[nf]->name,
+                                SHOW(f));
+            ca->row[nf] = d;
+        }
+        nf++;
+    }
+    if (nf != s->ncols) {
+        if (s->header_line)
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                            "expected %zu %s-separated fields as in the header on line %zu, found %zu",
+                            s->ncols, sep_name(s->sep), s->header_line, nf);
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(s->line),
+                        "expected %zu %s-separated fields as in the first row, found %zu", s->ncols,
+                        sep_name(s->sep), nf);
+    }
+    return add_row(s, val);
+}
+
 static jmf_status read_csv(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts, csv_attrs *ca)
 {
     const char *text = (const char *)data, *end = text + size, *p = text;
-    size_t line = 0, ncols = 0, header_line = 0, k;
-    long col[4] = { -1, -1, -1, -1 }; /* x, y, z, id */
-    int have_sep = 0, have_header = 0, have_cols = 0, attrs_ready = 0;
-    char sep = 0;
-    jmf_status st;
+    csv_state s;
+    jmf_status st = JMF_OK;
+    memset(&s, 0, sizeof s);
+    s.ctx = ctx;
+    s.pts = pts;
+    s.ca = ca;
+    for (int k = 0; k < 4; k++) s.col[k] = -1;
 
     if (size >= 3 && memcmp(text, "\xef\xbb\xbf", 3) == 0) p += 3;
     while (p < end) {
         const char *nl = memchr(p, '\n', (size_t)(end - p));
-        const char *le = nl ? nl : end, *q;
-        size_t n, nf;
-        splitter sp;
-        field f, val[4];
-        line++;
-        n = (size_t)(le - p);
+        const char *le = nl ? nl : end, *q = p;
+        size_t n = (size_t)(le - p);
+        s.line++;
         if (n > 0 && p[n - 1] == '\r') n--;
-        q = p;
         p = nl ? nl + 1 : end;
-        {
-            size_t i = 0;
-            while (i < n && is_blank(q[i])) i++;
-            if (i == n || q[i] == '#') continue;
-            for (i = 0; i < n; i++) {
-                unsigned char c = (unsigned char)q[i];
-                if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f)
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "unexpected control byte 0x%02x in column %zu; expected text", c, i + 1);
-            }
-        }
-        if (!have_sep) {
-            size_t cnt[3] = { 0, 0, 0 }, i;
-            static const char seps[3] = { ',', ';', '\t' };
-            for (i = 0; i < n; i++)
-                for (k = 0; k < 3; k++)
-                    if (q[i] == seps[k]) cnt[k]++;
-            sep = 0;
-            for (k = 0, i = 0; k < 3; k++)
-                if (cnt[k] > i) { i = cnt[k]; sep = seps[k]; }
-            have_sep = 1;
-
-            /* header? none of the fields is a number */
-            split_init(&sp, q, n, sep);
-            nf = 0;
-            have_header = 1;
-            while (next_field(&sp, &f)) {
-                nf++;
-                if (is_number(f)) have_header = 0;
-            }
-            if (have_header) {
-                int best[3] = { 0, 0, 0 }, exact, named = 0;
-                ncols = nf;
-                header_line = line;
-                split_init(&sp, q, n, sep);
-                for (k = 0; next_field(&sp, &f); k++) {
-                    int a = axis_of(f, &exact);
-                    if (a >= 0 && (col[a] < 0 || (exact && !best[a]))) {
-                        col[a] = (long)k;
-                        best[a] = exact;
-                    }
-                    if (col[3] < 0 && (jmr_ieq(f.s, f.n, "id") || jmr_ieq(f.s, f.n, "particle_id")))
-                        col[3] = (long)k;
-                }
-                for (k = 0; k < 3; k++) named += col[k] >= 0;
-                if (named == 0 && nf - (col[3] >= 0) < 3)
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "header has %zu %s-separated column(s) and no x, y, z names; expected "
-                                    "at least 3 columns",
-                                    nf, sep_name(sep));
-                if (named == 3) {
-                    have_cols = 1;
-                } else if (named > 0) {
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "header names only some of the x, y, z columns (missing %s); expected "
-                                    "all three or none",
-                                    col[0] < 0 ? "x" : col[1] < 0 ? "y" : "z");
-                }
-                if (col[3] >= 0) {
-                    st = jmr_points_want_ids(pts, ctx);
-                    if (st) return st;
-                }
-                if (jmr_attrs_wanted(ctx)) {
-                    ca->names = calloc(nf ? nf : 1, sizeof *ca->names);
-                    ca->lens = calloc(nf ? nf : 1, sizeof *ca->lens);
-                    if (!ca->names || !ca->lens)
-                        return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for the header");
-                    ca->ncols = nf;
-                    split_init(&sp, q, n, sep);
-                    for (k = 0; next_field(&sp, &f); k++) {
-                        ca->names[k] = f.s;
-                        ca->lens[k] = f.n;
-                    }
-                }
-                continue;
-            }
-            ncols = nf;
-        }
-        if (!have_cols) {
-            /* first data row: pick the first three numeric columns (not id) */
-            int got = 0;
-            split_init(&sp, q, n, sep);
-            for (k = 0; got < 3 && next_field(&sp, &f); k++)
-                if ((long)k != col[3] && is_number(f)) col[got++] = (long)k;
-            if (got < 3)
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                "expected at least 3 numeric %s-separated columns for x, y, z, found %d",
-                                sep_name(sep), got);
-            have_cols = 1;
-        }
-        if (!attrs_ready) {
-            attrs_ready = 1;
-            if (ca->names) {
-                st = csv_attrs_start(ca, col, header_line, ctx, pts);
-                if (st) return st;
-            }
-        }
-        /* a data row */
-        split_init(&sp, q, n, sep);
-        nf = 0;
-        memset(val, 0, sizeof val);
-        while (next_field(&sp, &f)) {
-            for (k = 0; k < 4; k++)
-                if (col[k] == (long)nf) val[k] = f;
-            if (ca->attr && nf < ca->ncols && ca->attr[nf]) {
-                double d;
-                if (!jmr_parse_double(f.s, f.n, &d))
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "column %zu (%s): expected a number, found '%.*s'", nf + 1, ca->attr[nf]->name,
-                                    SHOW(f));
-                ca->row[nf] = d;
-            }
-            nf++;
-        }
-        if (nf != ncols) {
-            if (header_line)
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                "expected %zu %s-separated fields as in the header on line %zu, found %zu",
-                                ncols, sep_name(sep), header_line, nf);
-            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                            "expected %zu %s-separated fields as in the first row, found %zu", ncols,
-                            sep_name(sep), nf);
-        }
-        {
-            double v[3];
-            uint32_t id = 0;
-            for (k = 0; k < 3; k++)
-                if (!jmr_parse_double(val[k].s, val[k].n, &v[k]))
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "column %ld (%c): expected a number, found '%.*s'", col[k] + 1,
-                                    (char)('x' + k), SHOW(val[k]));
-            if (col[3] >= 0) {
-                double d;
-                if (!jmr_parse_double(val[3].s, val[3].n, &d))
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "column %ld (id): expected an integer id, found '%.*s'", col[3] + 1,
-                                    SHOW(val[3]));
-                if (d >= 0 && d <= 4294967295.0 && d == (double)(uint32_t)d)
-                    id = (uint32_t)d;
-                else
-                    pts->ids_bad = 1;
-            }
-            st = jmr_points_add(pts, ctx, v[0], v[1], v[2], id, jmr_line(line));
+        if (skip_line(&s, q, n, &st)) {
             if (st) return st;
-            for (size_t a = 0; a < ca->nlist; a++) {
-                double t[4] = {0, 0, 0, 0};
-                for (size_t c = 0; c < ca->ncols; c++)
-                    if (ca->attr[c] == ca->list[a]) t[ca->comp[c]] = ca->row[c];
-                st = jmr_attr_push(ca->list[a], ctx, t);
+            continue;
+        }
+        if (!s.have_sep) {
+            int header;
+            st = first_line(&s, q, n, &header);
+            if (st) return st;
+            if (header) continue;
+        }
+        if (!s.have_cols) {
+            st = pick_columns(&s, q, n);
+            if (st) return st;
+        }
+        if (!s.attrs_ready) {
+            s.attrs_ready = 1;
+            if (ca->names) {
+                st = csv_attrs_start(ca, s.col, s.header_line, ctx, pts);
                 if (st) return st;
             }
         }
+        st = data_row(&s, q, n);
+        if (st) return st;
     }
     return JMF_OK;
 }

@@ -245,28 +245,114 @@ static jmf_status begin_attrs(const body *b, const elem *e, prop *props, jmr_poi
     return JMF_OK;
 }
 
-jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
-{
+/* The header as read so far. */
+typedef struct ply_header {
     prop props[MAX_PROPS];
     elem elems[MAX_ELEMS];
-    size_t nprops = 0, nelems = 0, pos = 0, line = 0, i;
-    int format = -1, have_end = 0, vertex_seen = 0;
-    body b;
-    jmf_status st;
+    size_t nprops, nelems, pos, line;
+    int format, vertex_seen;
+    const jmr_ctx *ctx;
+} ply_header;
 
-    /* header, one line at a time */
-    while (pos < size) {
-        const char *s = (const char *)data + pos;
-        const uint8_t *nl = memchr(data + pos, '\n', size - pos);
-        size_t n = nl ? (size_t)(nl - (data + pos)) : size - pos, nw;
+static jmf_status header_format(ply_header *h, const hdr_line *w, size_t nw)
+{
+    if (nw != 3)
+        return jmr_fail(h->ctx, JMF_E_FORMAT, jmr_line(h->line), "expected 'format TYPE 1.0'");
+    if (jmr_ieq(w[1].s, w[1].n, "ascii")) h->format = 0;
+    else if (jmr_ieq(w[1].s, w[1].n, "binary_little_endian")) h->format = 1;
+    else if (jmr_ieq(w[1].s, w[1].n, "binary_big_endian")) h->format = 2;
+    else
+        return jmr_fail(h->ctx, JMF_E_FORMAT, jmr_line(h->line),
+                        "unknown format '%.*s'; expected ascii, binary_little_endian or binary_big_endian",
+                        SHOW(w[1]));
+    return JMF_OK;
+}
+
+static jmf_status header_element(ply_header *h, const hdr_line *w, size_t nw)
+{
+    elem *e;
+    if (nw != 3)
+        return jmr_fail(h->ctx, JMF_E_FORMAT, jmr_line(h->line), "expected 'element NAME COUNT'");
+    if (h->nelems == MAX_ELEMS)
+        return jmr_fail(h->ctx, JMF_E_UNSUPPORTED, jmr_line(h->line), "more than %d elements", MAX_ELEMS);
+    e = &h->elems[h->nelems];
+    if (!jmr_parse_size(w[2].s, w[2].n, &e->count))
+        return jmr_fail(h->ctx, JMF_E_FORMAT, jmr_line(h->line), "expected an element count, found '%.*s'",
+                        SHOW(w[2]));
+    e->name = w[1].s;
+    e->namelen = w[1].n;
+    e->first = h->nprops;
+    e->nprops = 0;
+    e->line = h->line;
+    e->is_vertex = !h->vertex_seen && w[1].n == 6 && memcmp(w[1].s, "vertex", 6) == 0;
+    if (e->is_vertex) h->vertex_seen = 1;
+    h->nelems++;
+    return JMF_OK;
+}
+
+static jmf_status header_property(ply_header *h, const hdr_line *w, size_t nw)
+{
+    const jmr_ctx *ctx = h->ctx;
+    prop *p;
+    hdr_line name;
+    if (h->nelems == 0)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "property before any element");
+    if (h->nprops == MAX_PROPS)
+        return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_line(h->line), "more than %d properties", MAX_PROPS);
+    p = &h->props[h->nprops];
+    if (nw >= 2 && w[1].n == 4 && memcmp(w[1].s, "list", 4) == 0) {
+        if (nw != 5)
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "expected 'property list COUNTTYPE TYPE NAME'");
+        p->count_type = ply_type(w[2].s, w[2].n);
+        p->type = ply_type(w[3].s, w[3].n);
+        if (p->count_type == JMR_T_NONE || p->type == JMR_T_NONE || !jmr_type_is_int(p->count_type))
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line),
+                            "unknown list types '%.*s %.*s'; expected an integer count type and a PLY type",
+                            SHOW(w[2]), SHOW(w[3]));
+        name = w[4];
+        p->role = -1;
+    } else {
+        if (nw != 3)
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "expected 'property TYPE NAME'");
+        p->count_type = JMR_T_NONE;
+        p->type = ply_type(w[1].s, w[1].n);
+        if (p->type == JMR_T_NONE)
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line),
+                            "unknown property type '%.*s'; expected char, uchar, short, ushort, int, "
+                            "uint, float, double (or int8..float64)",
+                            SHOW(w[1]));
+        name = w[2];
+        p->role = -1;
+        if (name.n == 1 && name.s[0] >= 'x' && name.s[0] <= 'z') p->role = name.s[0] - 'x';
+        else if (name.n == 2 && memcmp(name.s, "id", 2) == 0) p->role = 3;
+    }
+    p->name = name.s;
+    p->namelen = name.n;
+    p->attr = NULL;
+    p->comp = 0;
+    h->elems[h->nelems - 1].nprops++;
+    h->nprops++;
+    return JMF_OK;
+}
+
+/* The header, one line at a time, up to end_header. */
+static jmf_status read_header(ply_header *h, const uint8_t *data, size_t size)
+{
+    const jmr_ctx *ctx = h->ctx;
+    int have_end = 0;
+    jmf_status st;
+    while (h->pos < size) {
+        const char *s = (const char *)data + h->pos;
+        const uint8_t *nl = memchr(data + h->pos, '\n', size - h->pos);
+        size_t n = nl ? (size_t)(nl - (data + h->pos)) : size - h->pos, nw;
         hdr_line w[6];
-        line++;
-        pos = nl ? (size_t)(nl - data) + 1 : size;
+        h->line++;
+        h->pos = nl ? (size_t)(nl - data) + 1 : size;
         if (!nl)
-            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "truncated header: expected end_header");
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "truncated header: expected end_header");
         if (n > 0 && s[n - 1] == '\r') n--;
         nw = words(s, n, w, 5);
-        if (line == 1) {
+        if (h->line == 1) {
             if (nw != 1 || w[0].n != 3 || memcmp(w[0].s, "ply", 3) != 0)
                 return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(1), "wrong magic; expected 'ply'");
             continue;
@@ -279,128 +365,80 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
             have_end = 1;
             break;
         }
-        if (w[0].n == 6 && memcmp(w[0].s, "format", 6) == 0) {
-            if (nw != 3)
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "expected 'format TYPE 1.0'");
-            if (jmr_ieq(w[1].s, w[1].n, "ascii")) format = 0;
-            else if (jmr_ieq(w[1].s, w[1].n, "binary_little_endian")) format = 1;
-            else if (jmr_ieq(w[1].s, w[1].n, "binary_big_endian")) format = 2;
-            else
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                "unknown format '%.*s'; expected ascii, binary_little_endian or binary_big_endian",
-                                SHOW(w[1]));
-            continue;
-        }
-        if (w[0].n == 7 && memcmp(w[0].s, "element", 7) == 0) {
-            elem *e;
-            if (nw != 3)
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "expected 'element NAME COUNT'");
-            if (nelems == MAX_ELEMS)
-                return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_line(line), "more than %d elements", MAX_ELEMS);
-            e = &elems[nelems];
-            if (!jmr_parse_size(w[2].s, w[2].n, &e->count))
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "expected an element count, found '%.*s'",
-                                SHOW(w[2]));
-            e->name = w[1].s;
-            e->namelen = w[1].n;
-            e->first = nprops;
-            e->nprops = 0;
-            e->line = line;
-            e->is_vertex = !vertex_seen && w[1].n == 6 && memcmp(w[1].s, "vertex", 6) == 0;
-            if (e->is_vertex) vertex_seen = 1;
-            nelems++;
-            continue;
-        }
-        if (w[0].n == 8 && memcmp(w[0].s, "property", 8) == 0) {
-            prop *p;
-            hdr_line name;
-            if (nelems == 0)
-                return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "property before any element");
-            if (nprops == MAX_PROPS)
-                return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_line(line), "more than %d properties", MAX_PROPS);
-            p = &props[nprops];
-            if (nw >= 2 && w[1].n == 4 && memcmp(w[1].s, "list", 4) == 0) {
-                if (nw != 5)
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "expected 'property list COUNTTYPE TYPE NAME'");
-                p->count_type = ply_type(w[2].s, w[2].n);
-                p->type = ply_type(w[3].s, w[3].n);
-                if (p->count_type == JMR_T_NONE || p->type == JMR_T_NONE ||
-                    !jmr_type_is_int(p->count_type))
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "unknown list types '%.*s %.*s'; expected an integer count type and a PLY type",
-                                    SHOW(w[2]), SHOW(w[3]));
-                name = w[4];
-                p->role = -1;
-            } else {
-                if (nw != 3)
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "expected 'property TYPE NAME'");
-                p->count_type = JMR_T_NONE;
-                p->type = ply_type(w[1].s, w[1].n);
-                if (p->type == JMR_T_NONE)
-                    return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                                    "unknown property type '%.*s'; expected char, uchar, short, ushort, int, "
-                                    "uint, float, double (or int8..float64)",
-                                    SHOW(w[1]));
-                name = w[2];
-                p->role = -1;
-                if (name.n == 1 && name.s[0] >= 'x' && name.s[0] <= 'z') p->role = name.s[0] - 'x';
-                else if (name.n == 2 && memcmp(name.s, "id", 2) == 0) p->role = 3;
-            }
-            p->name = name.s;
-            p->namelen = name.n;
-            p->attr = NULL;
-            p->comp = 0;
-            elems[nelems - 1].nprops++;
-            nprops++;
-            continue;
-        }
-        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line),
-                        "unknown header line '%.*s'; expected format, element, property, comment or end_header",
-                        SHOW(w[0]));
+        if (w[0].n == 6 && memcmp(w[0].s, "format", 6) == 0) st = header_format(h, w, nw);
+        else if (w[0].n == 7 && memcmp(w[0].s, "element", 7) == 0) st = header_element(h, w, nw);
+        else if (w[0].n == 8 && memcmp(w[0].s, "property", 8) == 0) st = header_property(h, w, nw);
+        else
+            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line),
+                            "unknown header line '%.*s'; expected format, element, property, comment or end_header",
+                            SHOW(w[0]));
+        if (st) return st;
     }
     if (!have_end)
-        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "truncated header: expected end_header");
-    if (format < 0)
-        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "no 'format' line in the header");
-    for (i = 0; i < nelems && !elems[i].is_vertex; i++) {}
-    if (i == nelems)
-        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(line), "no 'element vertex' in the header");
-    {
-        const elem *e = &elems[i];
-        int have[4] = { 0, 0, 0, 0 };
-        size_t k;
-        for (k = 0; k < e->nprops; k++) {
-            const prop *p = &props[e->first + k];
-            if (p->role >= 0) {
-                if (have[p->role]) {
-                    props[e->first + k].role = -1; /* a duplicate name: use the first */
-                    continue;
-                }
-                have[p->role] = 1;
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "truncated header: expected end_header");
+    if (h->format < 0)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "no 'format' line in the header");
+    return JMF_OK;
+}
+
+/* The vertex element's x, y, z and id (the first of each name), and the
+ * attributes asked for; b set up at the start of the body. */
+static jmf_status vertex_roles(ply_header *h, const uint8_t *data, size_t size, jmr_points *pts, body *b)
+{
+    const jmr_ctx *ctx = h->ctx;
+    size_t i;
+    jmf_status st;
+    for (i = 0; i < h->nelems && !h->elems[i].is_vertex; i++) {}
+    if (i == h->nelems)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(h->line), "no 'element vertex' in the header");
+    const elem *e = &h->elems[i];
+    int have[4] = { 0, 0, 0, 0 };
+    for (size_t k = 0; k < e->nprops; k++) {
+        prop *p = &h->props[e->first + k];
+        if (p->role >= 0) {
+            if (have[p->role]) {
+                p->role = -1; /* a duplicate name: use the first */
+                continue;
             }
-        }
-        if (!have[0] || !have[1] || !have[2])
-            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(e->line),
-                            "element vertex has no '%s' property; expected scalar x, y and z",
-                            !have[0] ? "x" : !have[1] ? "y" : "z");
-        if (have[3]) {
-            st = jmr_points_want_ids(pts, ctx);
-            if (st) return st;
-        }
-        b.d = data;
-        b.n = size;
-        b.pos = pos;
-        b.line = line + 1;
-        b.ctx = ctx;
-        b.format = format;
-        if (jmr_attrs_wanted(ctx) && e->nprops) {
-            st = begin_attrs(&b, e, props, pts);
-            if (st) return st;
+            have[p->role] = 1;
         }
     }
+    if (!have[0] || !have[1] || !have[2])
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(e->line),
+                        "element vertex has no '%s' property; expected scalar x, y and z",
+                        !have[0] ? "x" : !have[1] ? "y" : "z");
+    if (have[3]) {
+        st = jmr_points_want_ids(pts, ctx);
+        if (st) return st;
+    }
+    b->d = data;
+    b->n = size;
+    b->pos = h->pos;
+    b->line = h->line + 1;
+    b->ctx = ctx;
+    b->format = h->format;
+    if (jmr_attrs_wanted(ctx) && e->nprops) {
+        st = begin_attrs(b, e, h->props, pts);
+        if (st) return st;
+    }
+    return JMF_OK;
+}
 
-    for (i = 0; i < nelems; i++) {
-        st = read_elem(&b, &elems[i], props, pts);
+jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
+{
+    ply_header h; /* 16 KiB: the tables are bounded (MAX_PROPS, MAX_ELEMS) */
+    body b;
+    jmf_status st;
+    h.nprops = h.nelems = h.pos = h.line = 0;
+    h.format = -1;
+    h.vertex_seen = 0;
+    h.ctx = ctx;
+    st = read_header(&h, data, size);
+    if (!st) st = vertex_roles(&h, data, size, pts, &b);
+    if (st) return st;
+
+    for (size_t i = 0; i < h.nelems; i++) {
+        st = read_elem(&b, &h.elems[i], h.props, pts);
         if (st) return st;
     }
     while (b.pos < size && jmr_isspace(data[b.pos])) {
@@ -408,7 +446,7 @@ jmf_status jmr_read_ply(const uint8_t *data, size_t size, const jmr_ctx *ctx, jm
         b.pos++;
     }
     if (b.pos < size) {
-        const elem *e = &elems[nelems - 1];
+        const elem *e = &h.elems[h.nelems - 1];
         return jmr_fail(ctx, JMF_E_FORMAT, body_at(&b, b.pos, b.line),
                         "data after the last element ('%.*s', %zu rows as the header declares); expected the "
                         "end of the file: the header's count is lower than the rows",

@@ -365,214 +365,273 @@ static jmf_status field(vt *v, size_t ntuples_expected, int point_data, jmr_poin
     return JMF_OK;
 }
 
-jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
+/* The sections read so far. */
+typedef struct vtk_doc {
+    vt v;
+    tok dataset;
+    size_t npoints, attr_count, ncells;
+    int have_points, have_cells, have_dataset, mode; /* mode: 1 point data, 2 cell data */
+    jmr_points *pts;
+} vtk_doc;
+
+/* Lines 1 to 3: magic and version, title, ASCII or BINARY. */
+static jmf_status preamble(vt *v)
 {
     static const char magic[] = "# vtk DataFile Version";
-    vt v = { data, size, 0, 1, 0, ctx, NULL };
-    tok t, dataset = { "", 0, 0, 0 };
-    size_t npoints = 0, attr_count = 0, ncells = 0;
-    int have_points = 0, have_cells = 0, have_dataset = 0, mode = 0; /* 1 point data, 2 cell data */
+    const jmr_ctx *ctx = v->ctx;
+    tok t;
+    size_t major;
     jmf_status st;
-
     /* line 1: magic and version */
-    if (size < sizeof magic - 1 || memcmp(data, magic, sizeof magic - 1) != 0)
+    if (v->n < sizeof magic - 1 || memcmp(v->d, magic, sizeof magic - 1) != 0)
         return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(1), "expected '%s X.Y'", magic);
-    v.pos = sizeof magic - 1;
-    {
-        size_t major;
-        st = need_line_tok(&v, &t, "a version number");
-        if (st) return st;
-        if (t.n < 1 || t.s[0] < '0' || t.s[0] > '9' || (t.n > 1 && t.s[1] != '.') ||
-            !jmr_parse_size(t.s, 1, &major))
-            return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(1), "expected a version number X.Y, found '%.*s'", SHOW(t));
-        if (major < 1 || major > 5)
-            return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_line(1), "VTK file version %.*s; expected 1.0 to 5.x",
-                            SHOW(t));
-        st = end_line(&v, "the version");
-        if (st) return st;
-    }
+    v->pos = sizeof magic - 1;
+    st = need_line_tok(v, &t, "a version number");
+    if (st) return st;
+    if (t.n < 1 || t.s[0] < '0' || t.s[0] > '9' || (t.n > 1 && t.s[1] != '.') ||
+        !jmr_parse_size(t.s, 1, &major))
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(1), "expected a version number X.Y, found '%.*s'", SHOW(t));
+    if (major < 1 || major > 5)
+        return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_line(1), "VTK file version %.*s; expected 1.0 to 5.x",
+                        SHOW(t));
+    st = end_line(v, "the version");
+    if (st) return st;
     /* line 2: title (anything) */
-    while (v.pos < v.n && v.d[v.pos] != '\n') v.pos++;
-    if (v.pos >= v.n)
-        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(v.line), "truncated header: expected a title line and ASCII or BINARY");
-    v.pos++;
-    v.line++;
+    while (v->pos < v->n && v->d[v->pos] != '\n') v->pos++;
+    if (v->pos >= v->n)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(v->line), "truncated header: expected a title line and ASCII or BINARY");
+    v->pos++;
+    v->line++;
     /* line 3: ASCII | BINARY (blank lines before it tolerated) */
-    if (!next_tok(&v, &t))
-        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(v.line), "truncated header: expected ASCII or BINARY");
-    if (jmr_ieq(t.s, t.n, "BINARY")) v.binary = 1;
+    if (!next_tok(v, &t))
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(v->line), "truncated header: expected ASCII or BINARY");
+    if (jmr_ieq(t.s, t.n, "BINARY")) v->binary = 1;
     else if (!jmr_ieq(t.s, t.n, "ASCII"))
         return jmr_fail(ctx, JMF_E_FORMAT, jmr_line(t.line), "expected ASCII or BINARY, found '%.*s'", SHOW(t));
-    st = end_line(&v, t.s[0] == 'B' || t.s[0] == 'b' ? "BINARY" : "ASCII");
-    if (st) return st;
+    return end_line(v, t.s[0] == 'B' || t.s[0] == 'b' ? "BINARY" : "ASCII");
+}
 
-    while (next_tok(&v, &t)) {
-        if (jmr_ieq(t.s, t.n, "DATASET")) {
-            if (have_dataset)
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "second DATASET; expected one");
-            st = need_line_tok(&v, &dataset, "a dataset type");
-            if (st) return st;
-            have_dataset = 1;
-            st = end_line(&v, "DATASET");
-        } else if (!have_dataset && !jmr_ieq(t.s, t.n, "FIELD")) {
-            return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "expected DATASET, found '%.*s'", SHOW(t));
-        } else if (jmr_ieq(t.s, t.n, "POINTS")) {
-            size_t nvals;
-            if (have_points)
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "second POINTS section; expected one");
-            st = line_size(&v, "a point count", &npoints);
-            if (st) return st;
-            if (!jmr_mul(npoints, 3, &nvals))
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "point count %zu overflows", npoints);
-            have_points = 1;
-            st = typed_values(&v, nvals, SINK_POINTS, pts, "POINTS", NULL);
-        } else if (jmr_ieq(t.s, t.n, "CELLS") || jmr_ieq(t.s, t.n, "VERTICES") || jmr_ieq(t.s, t.n, "LINES") ||
-                   jmr_ieq(t.s, t.n, "POLYGONS") || jmr_ieq(t.s, t.n, "TRIANGLE_STRIPS")) {
-            size_t nc = 0;
-            st = cells(&v, jmr_ieq(t.s, t.n, "CELLS") ? "CELLS" : "the cell section", &nc);
-            if (!jmr_add(ncells, nc, &ncells))
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "cell count overflows");
-            have_cells = 1;
-        } else if (jmr_ieq(t.s, t.n, "CELL_TYPES")) {
-            size_t n;
-            st = line_size(&v, "a cell count", &n);
-            if (st) return st;
-            st = end_line(&v, "CELL_TYPES");
-            if (st) return st;
-            st = values(&v, n, JMR_T_I32, 0, SINK_NONE, NULL, "CELL_TYPES");
-        } else if (jmr_ieq(t.s, t.n, "POINT_DATA") || jmr_ieq(t.s, t.n, "CELL_DATA")) {
-            mode = (t.s[0] == 'P' || t.s[0] == 'p') ? 1 : 2;
-            st = line_size(&v, "an attribute count", &attr_count);
-            if (st) return st;
-            if (mode == 1 && have_points && attr_count != npoints)
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "POINT_DATA %zu; expected %zu as in POINTS",
-                                attr_count, npoints);
-            if (mode == 2 && have_cells && attr_count != ncells)
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t), "CELL_DATA %zu; expected %zu as in the cells",
-                                attr_count, ncells);
-            st = end_line(&v, mode == 1 ? "POINT_DATA" : "CELL_DATA");
-        } else if (jmr_ieq(t.s, t.n, "FIELD")) {
-            /* dataset-level FIELD arrays have their own tuple counts */
-            st = field(&v, mode ? attr_count : 0, mode == 1, pts);
-        } else if (jmr_ieq(t.s, t.n, "METADATA")) {
-            st = metadata(&v);
-        } else if (jmr_ieq(t.s, t.n, "DIMENSIONS") || jmr_ieq(t.s, t.n, "ORIGIN") ||
-                   jmr_ieq(t.s, t.n, "SPACING") || jmr_ieq(t.s, t.n, "ASPECT_RATIO")) {
-            int i;
-            tok num;
-            double d;
-            for (i = 0; i < 3 && !st; i++) {
-                st = need_line_tok(&v, &num, "a number");
-                if (!st && !jmr_parse_double(num.s, num.n, &d))
-                    st = jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &num), "expected a number, found '%.*s'", SHOW(num));
-            }
-            if (!st) st = end_line(&v, "the three numbers");
-        } else if (jmr_ieq(t.s, t.n, "X_COORDINATES") || jmr_ieq(t.s, t.n, "Y_COORDINATES") ||
-                   jmr_ieq(t.s, t.n, "Z_COORDINATES")) {
-            size_t n;
-            st = line_size(&v, "a coordinate count", &n);
-            if (!st) st = typed_values(&v, n, SINK_NONE, NULL, "coordinates", NULL);
-        } else if (mode && (jmr_ieq(t.s, t.n, "SCALARS"))) {
-            tok name;
-            jmr_type ty;
-            int is_bit;
-            size_t ncomp = 1, total;
-            enum sink sink = SINK_NONE;
-            st = need_line_tok(&v, &name, "a SCALARS name");
-            if (st) return st;
-            st = line_type(&v, &ty, &is_bit);
-            if (st) return st;
-            {
-                tok c;
-                if (line_tok(&v, &c) && !jmr_parse_size(c.s, c.n, &ncomp))
-                    return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &c), "expected a component count, found '%.*s'",
-                                    SHOW(c));
-                if (ncomp < 1 || ncomp > 4)
-                    return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &c), "SCALARS with %zu components; expected 1 to 4",
-                                    ncomp);
-            }
-            st = end_line(&v, "SCALARS");
-            if (st) return st;
-            if (peek_kw(&v, "LOOKUP_TABLE", &t)) {
-                tok tn;
-                st = need_line_tok(&v, &tn, "a lookup table name");
-                if (!st) st = end_line(&v, "LOOKUP_TABLE");
-                if (st) return st;
-            }
-            if (attr_count > SIZE_MAX / 4)
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "attribute count %zu overflows", attr_count);
-            total = attr_count * ncomp; /* ncomp <= 4 */
-            if (mode == 1 && ncomp == 1 && have_points && !is_bit && jmr_type_is_int(ty) && name.n == 2 &&
-                memcmp(name.s, "id", 2) == 0 && pts->count == npoints) {
-                st = jmr_points_want_ids(pts, ctx);
-                if (st) return st;
-                sink = SINK_IDS;
-            } else if (mode == 1 && !is_bit) {
-                st = fits(&v, total, ty, is_bit, "SCALARS");
-                if (!st) st = jmr_attr_begin(pts, ctx, name.s, name.n, ncomp, attr_count, at_tok(&v, &name), &v.attr);
-                if (st) return st;
-                if (v.attr) sink = SINK_ATTR;
-            }
-            st = values(&v, total, ty, is_bit, sink, pts, "SCALARS");
-        } else if (mode && jmr_ieq(t.s, t.n, "LOOKUP_TABLE")) {
-            tok name;
-            size_t n, total;
-            st = need_line_tok(&v, &name, "a lookup table name");
-            if (!st) st = line_size(&v, "a lookup table size", &n);
-            if (!st) st = end_line(&v, "LOOKUP_TABLE");
-            if (st) return st;
-            if (!jmr_mul(n, 4, &total))
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "lookup table size %zu overflows", n);
-            st = values(&v, total, v.binary ? JMR_T_U8 : JMR_T_F32, 0, SINK_NONE, NULL, "LOOKUP_TABLE");
-        } else if (mode && jmr_ieq(t.s, t.n, "COLOR_SCALARS")) {
-            tok name;
-            size_t nv, total;
-            st = need_line_tok(&v, &name, "a COLOR_SCALARS name");
-            if (!st) st = line_size(&v, "a component count", &nv);
-            if (!st) st = end_line(&v, "COLOR_SCALARS");
-            if (st) return st;
-            if (!jmr_mul(attr_count, nv, &total))
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "COLOR_SCALARS size overflows");
-            st = values(&v, total, v.binary ? JMR_T_U8 : JMR_T_F32, 0, SINK_NONE, NULL, "COLOR_SCALARS");
-        } else if (mode && (jmr_ieq(t.s, t.n, "VECTORS") || jmr_ieq(t.s, t.n, "NORMALS") ||
-                            jmr_ieq(t.s, t.n, "TENSORS") || jmr_ieq(t.s, t.n, "TENSORS6") ||
-                            jmr_ieq(t.s, t.n, "TEXTURE_COORDINATES") || jmr_ieq(t.s, t.n, "GLOBAL_IDS") ||
-                            jmr_ieq(t.s, t.n, "PEDIGREE_IDS"))) {
-            tok name;
-            size_t per = 3, total;
-            if (jmr_ieq(t.s, t.n, "TENSORS")) per = 9;
-            else if (jmr_ieq(t.s, t.n, "TENSORS6")) per = 6;
-            else if (jmr_ieq(t.s, t.n, "GLOBAL_IDS") || jmr_ieq(t.s, t.n, "PEDIGREE_IDS")) per = 1;
-            st = need_line_tok(&v, &name, "an attribute name");
-            if (st) return st;
-            if (jmr_ieq(t.s, t.n, "TEXTURE_COORDINATES")) {
-                st = line_size(&v, "a texture dimension", &per);
-                if (st) return st;
-                if (per < 1 || per > 3)
-                    return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "texture dimension %zu; expected 1 to 3", per);
-            }
-            if (!jmr_mul(attr_count, per, &total))
-                return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &name), "attribute size overflows");
-            {
-                claim keep = { &name, per, attr_count };
-                int kept = mode == 1 && (jmr_ieq(t.s, t.n, "VECTORS") || jmr_ieq(t.s, t.n, "NORMALS"));
-                st = typed_values(&v, total, SINK_NONE, pts, "attribute", kept ? &keep : NULL);
-            }
-        } else {
-            return jmr_fail(ctx, JMF_E_FORMAT, at_tok(&v, &t),
-                            "unknown keyword '%.*s'; expected a section such as POINTS, CELLS, CELL_TYPES, "
-                            "POINT_DATA, SCALARS or FIELD",
-                            SHOW(t));
+/* DATASET, POINTS, the cell sections, POINT_DATA/CELL_DATA: 1 if t was
+ * one of them (*st set), else 0. */
+static int structure_section(vtk_doc *doc, const tok *t, jmf_status *st)
+{
+    vt *v = &doc->v;
+    const jmr_ctx *ctx = v->ctx;
+    if (jmr_ieq(t->s, t->n, "POINTS")) {
+        size_t nvals;
+        if (doc->have_points)
+            return *st = jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, t), "second POINTS section; expected one"), 1;
+        *st = line_size(v, "a point count", &doc->npoints);
+        if (*st) return 1;
+        if (!jmr_mul(doc->npoints, 3, &nvals))
+            return *st = jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, t), "point count %zu overflows", doc->npoints), 1;
+        doc->have_points = 1;
+        *st = typed_values(v, nvals, SINK_POINTS, doc->pts, "POINTS", NULL);
+    } else if (jmr_ieq(t->s, t->n, "CELLS") || jmr_ieq(t->s, t->n, "VERTICES") || jmr_ieq(t->s, t->n, "LINES") ||
+               jmr_ieq(t->s, t->n, "POLYGONS") || jmr_ieq(t->s, t->n, "TRIANGLE_STRIPS")) {
+        size_t nc = 0;
+        *st = cells(v, jmr_ieq(t->s, t->n, "CELLS") ? "CELLS" : "the cell section", &nc);
+        if (!jmr_add(doc->ncells, nc, &doc->ncells))
+            return *st = jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, t), "cell count overflows"), 1;
+        doc->have_cells = 1;
+    } else if (jmr_ieq(t->s, t->n, "CELL_TYPES")) {
+        size_t n;
+        *st = line_size(v, "a cell count", &n);
+        if (!*st) *st = end_line(v, "CELL_TYPES");
+        if (!*st) *st = values(v, n, JMR_T_I32, 0, SINK_NONE, NULL, "CELL_TYPES");
+    } else if (jmr_ieq(t->s, t->n, "POINT_DATA") || jmr_ieq(t->s, t->n, "CELL_DATA")) {
+        int mode = doc->mode = (t->s[0] == 'P' || t->s[0] == 'p') ? 1 : 2;
+        *st = line_size(v, "an attribute count", &doc->attr_count);
+        if (*st) return 1;
+        if (mode == 1 && doc->have_points && doc->attr_count != doc->npoints)
+            return *st = jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, t), "POINT_DATA %zu; expected %zu as in POINTS",
+                                  doc->attr_count, doc->npoints), 1;
+        if (mode == 2 && doc->have_cells && doc->attr_count != doc->ncells)
+            return *st = jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, t), "CELL_DATA %zu; expected %zu as in the cells",
+                                  doc->attr_count, doc->ncells), 1;
+        *st = end_line(v, mode == 1 ? "POINT_DATA" : "CELL_DATA");
+    } else
+        return 0;
+    return 1;
+}
+
+/* Sections of structured grids: walked, nothing kept. 1 if t was one. */
+static int grid_section(vtk_doc *doc, const tok *t, jmf_status *st)
+{
+    vt *v = &doc->v;
+    if (jmr_ieq(t->s, t->n, "DIMENSIONS") || jmr_ieq(t->s, t->n, "ORIGIN") || jmr_ieq(t->s, t->n, "SPACING") ||
+        jmr_ieq(t->s, t->n, "ASPECT_RATIO")) {
+        tok num;
+        double d;
+        for (int i = 0; i < 3 && !*st; i++) {
+            *st = need_line_tok(v, &num, "a number");
+            if (!*st && !jmr_parse_double(num.s, num.n, &d))
+                *st = jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, &num), "expected a number, found '%.*s'", SHOW(num));
         }
+        if (!*st) *st = end_line(v, "the three numbers");
+        return 1;
+    }
+    if (jmr_ieq(t->s, t->n, "X_COORDINATES") || jmr_ieq(t->s, t->n, "Y_COORDINATES") ||
+        jmr_ieq(t->s, t->n, "Z_COORDINATES")) {
+        size_t n;
+        *st = line_size(v, "a coordinate count", &n);
+        if (!*st) *st = typed_values(v, n, SINK_NONE, NULL, "coordinates", NULL);
+        return 1;
+    }
+    return 0;
+}
+
+/* SCALARS: the point ids ("id"), an attribute asked for, or skipped. */
+static jmf_status scalars(vtk_doc *doc)
+{
+    vt *v = &doc->v;
+    const jmr_ctx *ctx = v->ctx;
+    jmr_points *pts = doc->pts;
+    tok name, t;
+    jmr_type ty;
+    int is_bit;
+    size_t ncomp = 1, total;
+    enum sink sink = SINK_NONE;
+    jmf_status st = need_line_tok(v, &name, "a SCALARS name");
+    if (st) return st;
+    st = line_type(v, &ty, &is_bit);
+    if (st) return st;
+    {
+        tok c;
+        if (line_tok(v, &c) && !jmr_parse_size(c.s, c.n, &ncomp))
+            return jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, &c), "expected a component count, found '%.*s'", SHOW(c));
+        if (ncomp < 1 || ncomp > 4)
+            return jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, &c), "SCALARS with %zu components; expected 1 to 4", ncomp);
+    }
+    st = end_line(v, "SCALARS");
+    if (st) return st;
+    if (peek_kw(v, "LOOKUP_TABLE", &t)) {
+        tok tn;
+        st = need_line_tok(v, &tn, "a lookup table name");
+        if (!st) st = end_line(v, "LOOKUP_TABLE");
         if (st) return st;
     }
-    if (!have_dataset)
-        return jmr_fail(ctx, JMF_E_FORMAT, at_now(&v), "truncated: expected DATASET and POINTS, found end of file");
-    if (!have_points) {
-        if (jmr_ieq(dataset.s, dataset.n, "STRUCTURED_POINTS") || jmr_ieq(dataset.s, dataset.n, "RECTILINEAR_GRID"))
-            return jmr_fail(ctx, JMF_E_UNSUPPORTED, at_now(&v), "dataset %.*s has no POINTS; expected point data",
-                            SHOW(dataset));
-        return jmr_fail(ctx, JMF_E_FORMAT, at_now(&v), "no POINTS section; expected POINTS n type");
+    if (doc->attr_count > SIZE_MAX / 4)
+        return jmr_fail(ctx, JMF_E_FORMAT, at_tok(v, &name), "attribute count %zu overflows", doc->attr_count);
+    total = doc->attr_count * ncomp; /* ncomp <= 4 */
+    if (doc->mode == 1 && ncomp == 1 && doc->have_points && !is_bit && jmr_type_is_int(ty) && name.n == 2 &&
+        memcmp(name.s, "id", 2) == 0 && pts->count == doc->npoints) {
+        st = jmr_points_want_ids(pts, ctx);
+        if (st) return st;
+        sink = SINK_IDS;
+    } else if (doc->mode == 1 && !is_bit) {
+        st = fits(v, total, ty, is_bit, "SCALARS");
+        if (!st) st = jmr_attr_begin(pts, ctx, name.s, name.n, ncomp, doc->attr_count, at_tok(v, &name), &v->attr);
+        if (st) return st;
+        if (v->attr) sink = SINK_ATTR;
+    }
+    return values(v, total, ty, is_bit, sink, pts, "SCALARS");
+}
+
+/* LOOKUP_TABLE and COLOR_SCALARS: skipped. */
+static jmf_status colours(vtk_doc *doc, const tok *t)
+{
+    vt *v = &doc->v;
+    const int lookup = jmr_ieq(t->s, t->n, "LOOKUP_TABLE");
+    tok name;
+    size_t n, total;
+    jmf_status st = need_line_tok(v, &name, lookup ? "a lookup table name" : "a COLOR_SCALARS name");
+    if (!st) st = line_size(v, lookup ? "a lookup table size" : "a component count", &n);
+    if (!st) st = end_line(v, lookup ? "LOOKUP_TABLE" : "COLOR_SCALARS");
+    if (st) return st;
+    if (lookup && !jmr_mul(n, 4, &total))
+        return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, &name), "lookup table size %zu overflows", n);
+    if (!lookup && !jmr_mul(doc->attr_count, n, &total))
+        return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, &name), "COLOR_SCALARS size overflows");
+    return values(v, total, v->binary ? JMR_T_U8 : JMR_T_F32, 0, SINK_NONE, NULL,
+                  lookup ? "LOOKUP_TABLE" : "COLOR_SCALARS");
+}
+
+/* VECTORS, NORMALS, TENSORS(6), TEXTURE_COORDINATES, GLOBAL_IDS,
+ * PEDIGREE_IDS: point VECTORS and NORMALS kept when asked for. */
+static jmf_status tuples(vtk_doc *doc, const tok *t)
+{
+    vt *v = &doc->v;
+    tok name;
+    size_t per = 3, total;
+    jmf_status st;
+    if (jmr_ieq(t->s, t->n, "TENSORS")) per = 9;
+    else if (jmr_ieq(t->s, t->n, "TENSORS6")) per = 6;
+    else if (jmr_ieq(t->s, t->n, "GLOBAL_IDS") || jmr_ieq(t->s, t->n, "PEDIGREE_IDS")) per = 1;
+    st = need_line_tok(v, &name, "an attribute name");
+    if (st) return st;
+    if (jmr_ieq(t->s, t->n, "TEXTURE_COORDINATES")) {
+        st = line_size(v, "a texture dimension", &per);
+        if (st) return st;
+        if (per < 1 || per > 3)
+            return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, &name), "texture dimension %zu; expected 1 to 3", per);
+    }
+    if (!jmr_mul(doc->attr_count, per, &total))
+        return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, &name), "attribute size overflows");
+    claim keep = { &name, per, doc->attr_count };
+    int kept = doc->mode == 1 && (jmr_ieq(t->s, t->n, "VECTORS") || jmr_ieq(t->s, t->n, "NORMALS"));
+    return typed_values(v, total, SINK_NONE, doc->pts, "attribute", kept ? &keep : NULL);
+}
+
+/* One section, by its keyword t. */
+static jmf_status section(vtk_doc *doc, const tok *t)
+{
+    vt *v = &doc->v;
+    jmf_status st = JMF_OK;
+    if (jmr_ieq(t->s, t->n, "DATASET")) {
+        if (doc->have_dataset)
+            return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, t), "second DATASET; expected one");
+        st = need_line_tok(v, &doc->dataset, "a dataset type");
+        if (st) return st;
+        doc->have_dataset = 1;
+        return end_line(v, "DATASET");
+    }
+    if (!doc->have_dataset && !jmr_ieq(t->s, t->n, "FIELD"))
+        return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, t), "expected DATASET, found '%.*s'", SHOW(*t));
+    if (structure_section(doc, t, &st) || grid_section(doc, t, &st))
+        return st;
+    if (jmr_ieq(t->s, t->n, "FIELD")) /* dataset-level FIELD arrays have their own tuple counts */
+        return field(v, doc->mode ? doc->attr_count : 0, doc->mode == 1, doc->pts);
+    if (jmr_ieq(t->s, t->n, "METADATA"))
+        return metadata(v);
+    if (doc->mode && jmr_ieq(t->s, t->n, "SCALARS"))
+        return scalars(doc);
+    if (doc->mode && (jmr_ieq(t->s, t->n, "LOOKUP_TABLE") || jmr_ieq(t->s, t->n, "COLOR_SCALARS")))
+        return colours(doc, t);
+    if (doc->mode && (jmr_ieq(t->s, t->n, "VECTORS") || jmr_ieq(t->s, t->n, "NORMALS") ||
+                      jmr_ieq(t->s, t->n, "TENSORS") || jmr_ieq(t->s, t->n, "TENSORS6") ||
+                      jmr_ieq(t->s, t->n, "TEXTURE_COORDINATES") || jmr_ieq(t->s, t->n, "GLOBAL_IDS") ||
+                      jmr_ieq(t->s, t->n, "PEDIGREE_IDS")))
+        return tuples(doc, t);
+    return jmr_fail(v->ctx, JMF_E_FORMAT, at_tok(v, t),
+                    "unknown keyword '%.*s'; expected a section such as POINTS, CELLS, CELL_TYPES, "
+                    "POINT_DATA, SCALARS or FIELD",
+                    SHOW(*t));
+}
+
+jmf_status jmr_read_vtk(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
+{
+    vtk_doc doc;
+    tok t;
+    jmf_status st;
+    memset(&doc, 0, sizeof doc);
+    doc.v = (vt){ data, size, 0, 1, 0, ctx, NULL };
+    doc.dataset = (tok){ "", 0, 0, 0 };
+    doc.pts = pts;
+    st = preamble(&doc.v);
+    if (st) return st;
+    while (next_tok(&doc.v, &t)) {
+        st = section(&doc, &t);
+        if (st) return st;
+    }
+    if (!doc.have_dataset)
+        return jmr_fail(ctx, JMF_E_FORMAT, at_now(&doc.v), "truncated: expected DATASET and POINTS, found end of file");
+    if (!doc.have_points) {
+        const tok *ds = &doc.dataset;
+        if (jmr_ieq(ds->s, ds->n, "STRUCTURED_POINTS") || jmr_ieq(ds->s, ds->n, "RECTILINEAR_GRID"))
+            return jmr_fail(ctx, JMF_E_UNSUPPORTED, at_now(&doc.v), "dataset %.*s has no POINTS; expected point data",
+                            SHOW(*ds));
+        return jmr_fail(ctx, JMF_E_FORMAT, at_now(&doc.v), "no POINTS section; expected POINTS n type");
     }
     return JMF_OK;
 }

@@ -701,164 +701,183 @@ static jmf_status read_arrays(vtu *v, const piece *pieces, size_t npieces, jmr_p
     return JMF_OK;
 }
 
-jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
-{
+/* Where the walk through the tags stands. */
+typedef struct vtu_doc {
     vtu v;
-    xtag t;
-    piece *pieces = NULL;
-    size_t npieces = 0, cap = 0, i;
-    int got, in_points = 0, in_pointdata = 0, in_piece = 0, have_file = 0, closed = 0, any_ids = 0;
-    jmf_status st = JMF_OK;
+    piece *pieces;
+    size_t npieces, cap;
+    int in_points, in_pointdata, in_piece, have_file, closed, any_ids;
+} vtu_doc;
 
-    memset(&v, 0, sizeof v);
-    v.x.d = data;
-    v.x.n = size;
-    v.x.ctx = ctx;
-    v.hsize = 4;
-    /* zlib cannot expand more than ~1032:1, so no real file decodes to more than this */
-    v.decoded_max = jmr_max_decoded(ctx);
-    if (size < (v.decoded_max - (1u << 20)) / 1100) v.decoded_max = size * 1100 + (1u << 20);
+/* <VTKFile>: its type, byte order, header type and compressor. */
+static jmf_status file_tag(vtu_doc *doc, const xtag *t)
+{
+    const jmr_ctx *ctx = doc->v.x.ctx;
+    const xattr *a;
+    if (!tag_is(t, "VTKFile") || t->end)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t->pos), "expected <VTKFile>, found <%s%.*s>", t->end ? "/" : "",
+                        (int)(t->nlen > 40 ? 40 : t->nlen), t->name);
+    doc->have_file = 1;
+    a = attr(t, "type");
+    if (!val_is(a, "UnstructuredGrid") && !val_is(a, "PolyData"))
+        return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t->pos),
+                        "VTKFile type '%.*s'; expected UnstructuredGrid (or PolyData)",
+                        a ? (int)(a->vlen > 40 ? 40 : a->vlen) : 0, a ? a->val : "");
+    a = attr(t, "byte_order");
+    if (val_is(a, "BigEndian")) doc->v.big_endian = 1;
+    else if (a && !val_is(a, "LittleEndian"))
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t->pos), "byte_order '%.*s'; expected LittleEndian or BigEndian",
+                        SHOWA(a));
+    a = attr(t, "header_type");
+    if (val_is(a, "UInt64")) doc->v.hsize = 8;
+    else if (a && !val_is(a, "UInt32"))
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t->pos), "header_type '%.*s'; expected UInt32 or UInt64", SHOWA(a));
+    a = attr(t, "compressor");
+    if (val_is(a, "vtkZLibDataCompressor")) doc->v.zlib = 1;
+    else if (a && a->vlen)
+        return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t->pos),
+                        "compressor '%.*s' is not supported; expected vtkZLibDataCompressor or none", SHOWA(a));
+    if (t->selfclose) doc->closed = 1;
+    return JMF_OK;
+}
 
-    while (!st) {
-        st = next_tag(&v.x, &t, &got);
-        if (st || !got) break;
-        if (!have_file) {
-            const xattr *a;
-            if (!tag_is(&t, "VTKFile") || t.end) {
-                st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t.pos), "expected <VTKFile>, found <%s%.*s>", t.end ? "/" : "",
-                              (int)(t.nlen > 40 ? 40 : t.nlen), t.name);
-                break;
-            }
-            have_file = 1;
-            a = attr(&t, "type");
-            if (!val_is(a, "UnstructuredGrid") && !val_is(a, "PolyData")) {
-                st = jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t.pos),
-                              "VTKFile type '%.*s'; expected UnstructuredGrid (or PolyData)",
-                              a ? (int)(a->vlen > 40 ? 40 : a->vlen) : 0,
-                              a ? a->val : "");
-                break;
-            }
-            a = attr(&t, "byte_order");
-            if (val_is(a, "BigEndian")) v.big_endian = 1;
-            else if (a && !val_is(a, "LittleEndian")) {
-                st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t.pos), "byte_order '%.*s'; expected LittleEndian or BigEndian",
-                              SHOWA(a));
-                break;
-            }
-            a = attr(&t, "header_type");
-            if (val_is(a, "UInt64")) v.hsize = 8;
-            else if (a && !val_is(a, "UInt32")) {
-                st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t.pos), "header_type '%.*s'; expected UInt32 or UInt64", SHOWA(a));
-                break;
-            }
-            a = attr(&t, "compressor");
-            if (val_is(a, "vtkZLibDataCompressor")) v.zlib = 1;
-            else if (a && a->vlen) {
-                st = jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t.pos),
-                              "compressor '%.*s' is not supported; expected vtkZLibDataCompressor or none", SHOWA(a));
-                break;
-            }
-            if (t.selfclose) { closed = 1; break; }
-            continue;
-        }
-        if (t.end) {
-            if (tag_is(&t, "Points")) in_points = 0;
-            else if (tag_is(&t, "PointData")) in_pointdata = 0;
-            else if (tag_is(&t, "Piece")) in_piece = 0;
-            else if (tag_is(&t, "VTKFile")) { closed = 1; break; }
-            continue;
-        }
-        if (tag_is(&t, "Piece")) {
-            piece *pc;
-            if (npieces == MAX_PIECES) {
-                st = jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t.pos), "more than %d pieces", MAX_PIECES);
-                break;
-            }
-            if (npieces == cap) {
-                piece *np;
-                cap = cap ? 2 * cap : 4;
-                np = realloc(pieces, cap * sizeof *pieces);
-                if (!np) {
-                    st = jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for %zu pieces", cap);
-                    break;
-                }
-                pieces = np;
-            }
-            pc = &pieces[npieces++];
-            memset(pc, 0, sizeof *pc);
-            pc->tagpos = t.pos;
-            if (!attr_size(attr(&t, "NumberOfPoints"), &pc->npoints)) {
-                st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t.pos), "Piece without a valid NumberOfPoints");
-                break;
-            }
-            in_piece = !t.selfclose;
-            in_points = in_pointdata = 0;
-        } else if (tag_is(&t, "Points") && in_piece) {
-            in_points = !t.selfclose;
-        } else if (tag_is(&t, "PointData") && in_piece) {
-            in_pointdata = !t.selfclose;
-        } else if (tag_is(&t, "DataArray")) {
-            piece *pc = npieces ? &pieces[npieces - 1] : NULL;
-            darr da;
-            st = data_array(&v, &t, &da);
-            if (st) break;
-            if (pc && in_piece && in_points && !pc->pts.present) {
-                pc->pts = da;
-            } else if (pc && in_piece && in_pointdata && !pc->ids.present && val_is(attr(&t, "Name"), "id")) {
-                pc->ids = da;
-                any_ids = 1;
-            } else if (pc && in_piece && in_pointdata && pc->narrs < MAX_POINT_ARRAYS && jmr_attrs_wanted(ctx)) {
-                const xattr *nm = attr(&t, "Name");
-                if (nm && nm->vlen) {
-                    pc->arrs[pc->narrs] = da;
-                    pc->names[pc->narrs] = nm->val;
-                    pc->namelens[pc->narrs] = nm->vlen;
-                    pc->narrs++;
-                }
-            }
-        } else if (tag_is(&t, "AppendedData")) {
-            const xattr *enc = attr(&t, "encoding");
-            size_t p = v.x.pos;
-            if (val_is(enc, "base64")) v.appended_b64 = 1;
-            else if (enc && !val_is(enc, "raw")) {
-                st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t.pos), "AppendedData encoding '%.*s'; expected raw or base64",
-                              SHOWA(enc));
-                break;
-            }
-            while (p < size && jmr_isspace(data[p])) p++;
-            if (p >= size || data[p] != '_') {
-                st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(p), "expected '_' at the start of the appended data");
-                break;
-            }
-            v.appended = p + 1;
-            v.have_appended = 1;
-            /* the file must end with </VTKFile> (raw data cannot be scanned) */
-            {
-                size_t e = size;
-                static const char endtag[] = "</VTKFile>";
-                while (e > v.appended && (jmr_isspace(data[e - 1]) || data[e - 1] == 0)) e--;
-                if (e - v.appended < sizeof endtag - 1 ||
-                    memcmp(data + e - (sizeof endtag - 1), endtag, sizeof endtag - 1) != 0) {
-                    st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(size), "truncated: expected the file to end with </VTKFile>");
-                    break;
-                }
-            }
-            closed = 1;
-            break;
-        } else if (!t.selfclose && (tag_is(&t, "FieldData") || tag_is(&t, "CellData") || tag_is(&t, "Cells") ||
-                                    tag_is(&t, "Verts") || tag_is(&t, "Lines") || tag_is(&t, "Strips") ||
-                                    tag_is(&t, "Polys"))) {
-            /* contents are not needed; inline data in them is skipped */
-            st = skip_element(&v.x, &t);
+/* <Piece>: a new piece and its point count. */
+static jmf_status piece_tag(vtu_doc *doc, const xtag *t)
+{
+    const jmr_ctx *ctx = doc->v.x.ctx;
+    piece *pc;
+    if (doc->npieces == MAX_PIECES)
+        return jmr_fail(ctx, JMF_E_UNSUPPORTED, jmr_byte(t->pos), "more than %d pieces", MAX_PIECES);
+    if (doc->npieces == doc->cap) {
+        piece *np;
+        doc->cap = doc->cap ? 2 * doc->cap : 4;
+        np = realloc(doc->pieces, doc->cap * sizeof *doc->pieces);
+        if (!np)
+            return jmr_fail(ctx, JMF_E_NOMEM, jmr_nowhere(), "out of memory for %zu pieces", doc->cap);
+        doc->pieces = np;
+    }
+    pc = &doc->pieces[doc->npieces++];
+    memset(pc, 0, sizeof *pc);
+    pc->tagpos = t->pos;
+    if (!attr_size(attr(t, "NumberOfPoints"), &pc->npoints))
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t->pos), "Piece without a valid NumberOfPoints");
+    doc->in_piece = !t->selfclose;
+    doc->in_points = doc->in_pointdata = 0;
+    return JMF_OK;
+}
+
+/* <DataArray>: the points, the ids or an attribute asked for, of the
+ * piece it is in. */
+static jmf_status data_array_tag(vtu_doc *doc, const xtag *t)
+{
+    piece *pc = doc->npieces ? &doc->pieces[doc->npieces - 1] : NULL;
+    darr da;
+    jmf_status st = data_array(&doc->v, t, &da);
+    if (st) return st;
+    if (!pc || !doc->in_piece)
+        return JMF_OK;
+    if (doc->in_points && !pc->pts.present) {
+        pc->pts = da;
+    } else if (doc->in_pointdata && !pc->ids.present && val_is(attr(t, "Name"), "id")) {
+        pc->ids = da;
+        doc->any_ids = 1;
+    } else if (doc->in_pointdata && pc->narrs < MAX_POINT_ARRAYS && jmr_attrs_wanted(doc->v.x.ctx)) {
+        const xattr *nm = attr(t, "Name");
+        if (nm && nm->vlen) {
+            pc->arrs[pc->narrs] = da;
+            pc->names[pc->narrs] = nm->val;
+            pc->namelens[pc->narrs] = nm->vlen;
+            pc->narrs++;
         }
     }
-    if (!st && !have_file)
+    return JMF_OK;
+}
+
+/* <AppendedData>: where it starts; the file must end with </VTKFile>
+ * (raw data cannot be scanned). */
+static jmf_status appended_tag(vtu_doc *doc, const xtag *t)
+{
+    vtu *v = &doc->v;
+    const jmr_ctx *ctx = v->x.ctx;
+    const uint8_t *data = v->x.d;
+    const size_t size = v->x.n;
+    const xattr *enc = attr(t, "encoding");
+    size_t p = v->x.pos, e = size;
+    static const char endtag[] = "</VTKFile>";
+    if (val_is(enc, "base64")) v->appended_b64 = 1;
+    else if (enc && !val_is(enc, "raw"))
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(t->pos), "AppendedData encoding '%.*s'; expected raw or base64",
+                        SHOWA(enc));
+    while (p < size && jmr_isspace(data[p])) p++;
+    if (p >= size || data[p] != '_')
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(p), "expected '_' at the start of the appended data");
+    v->appended = p + 1;
+    v->have_appended = 1;
+    while (e > v->appended && (jmr_isspace(data[e - 1]) || data[e - 1] == 0)) e--;
+    if (e - v->appended < sizeof endtag - 1 ||
+        memcmp(data + e - (sizeof endtag - 1), endtag, sizeof endtag - 1) != 0)
+        return jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(size), "truncated: expected the file to end with </VTKFile>");
+    doc->closed = 1;
+    return JMF_OK;
+}
+
+/* One tag inside <VTKFile>. */
+static jmf_status inner_tag(vtu_doc *doc, const xtag *t)
+{
+    if (t->end) {
+        if (tag_is(t, "Points")) doc->in_points = 0;
+        else if (tag_is(t, "PointData")) doc->in_pointdata = 0;
+        else if (tag_is(t, "Piece")) doc->in_piece = 0;
+        else if (tag_is(t, "VTKFile")) doc->closed = 1;
+        return JMF_OK;
+    }
+    if (tag_is(t, "Piece"))
+        return piece_tag(doc, t);
+    if (tag_is(t, "Points") && doc->in_piece)
+        doc->in_points = !t->selfclose;
+    else if (tag_is(t, "PointData") && doc->in_piece)
+        doc->in_pointdata = !t->selfclose;
+    else if (tag_is(t, "DataArray"))
+        return data_array_tag(doc, t);
+    else if (tag_is(t, "AppendedData"))
+        return appended_tag(doc, t);
+    else if (!t->selfclose && (tag_is(t, "FieldData") || tag_is(t, "CellData") || tag_is(t, "Cells") ||
+                               tag_is(t, "Verts") || tag_is(t, "Lines") || tag_is(t, "Strips") ||
+                               tag_is(t, "Polys")))
+        /* contents are not needed; inline data in them is skipped */
+        return skip_element(&doc->v.x, t);
+    return JMF_OK;
+}
+
+jmf_status jmr_read_vtu(const uint8_t *data, size_t size, const jmr_ctx *ctx, jmr_points *pts)
+{
+    vtu_doc doc;
+    xtag t;
+    int got;
+    jmf_status st = JMF_OK;
+
+    memset(&doc, 0, sizeof doc);
+    vtu *v = &doc.v;
+    v->x.d = data;
+    v->x.n = size;
+    v->x.ctx = ctx;
+    v->hsize = 4;
+    /* zlib cannot expand more than ~1032:1, so no real file decodes to more than this */
+    v->decoded_max = jmr_max_decoded(ctx);
+    if (size < (v->decoded_max - (1u << 20)) / 1100) v->decoded_max = size * 1100 + (1u << 20);
+
+    while (!st && !doc.closed) {
+        st = next_tag(&v->x, &t, &got);
+        if (st || !got) break;
+        st = doc.have_file ? inner_tag(&doc, &t) : file_tag(&doc, &t);
+    }
+    if (!st && !doc.have_file)
         st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(0), "expected an XML <VTKFile> element");
-    if (!st && !closed)
+    if (!st && !doc.closed)
         st = jmr_fail(ctx, JMF_E_FORMAT, jmr_byte(size), "truncated XML: expected </VTKFile>");
-    if (!st && any_ids) st = jmr_points_want_ids(pts, ctx);
-    for (i = 0; !st && i < npieces; i++) st = read_piece(&v, &pieces[i], pts);
-    if (!st && npieces) st = read_arrays(&v, pieces, npieces, pts);
-    free(pieces);
+    if (!st && doc.any_ids) st = jmr_points_want_ids(pts, ctx);
+    for (size_t i = 0; !st && i < doc.npieces; i++) st = read_piece(v, &doc.pieces[i], pts);
+    if (!st && doc.npieces) st = read_arrays(v, doc.pieces, doc.npieces, pts);
+    free(doc.pieces);
     return st;
 }
