@@ -1,6 +1,7 @@
 /* sweep.c - the frame's blocks meshed in batches on the pool's threads, each batch's outputs copied into the mesh. */
 #include "extract/sweep.h"
 #include "context.h"
+#include "grid/release.h"
 #include <string.h>
 
 static void block_task(void *arg, size_t i, int worker)

@@ -11,13 +11,6 @@ void jm_grid_free(jm_grid *g, jm_mem *mem);
  * of the grid, the kernels and the blocks read: the field and the later
  * stages find cells by their coordinates, never the reverse. */
 void jm_grid_drop_coords(jm_grid *g, jm_mem *mem);
-/* SPH grids (cells in key order): gives back the memory of the particles
- * of every cell whose z coordinate is below cz, and of those cells' index
- * entries: nothing may read them afterwards (the block sweep, which runs in
- * z order, calls it behind itself). Pages whole inside the released ranges
- * go back to the system and out of the count; the grid is freed as usual.
- * Any other grid: nothing. */
-void jm_grid_release_below(jm_grid *g, jm_mem *mem, int64_t cz);
 /* The isolated particles' sorted indices (g->n_isolated of them) in the
  * order of their cells' first appearance, then of the sorted order: the
  * same particles in the same order whichever way the cells are numbered. */
