@@ -51,6 +51,7 @@ typedef struct jm_frame {
     const jm_config *c;    /* the frame's configuration: the context's, or cfg */
     jm_config cfg;         /* anisotropic: c with the band as wide as the kernels reach */
     jm_stats *st;
+    const struct jm_field_ops *field; /* the frame's field (field_ops.h) */
     jm_grid g;
     jm_block_set bs;
     jm_block_env env;

@@ -5,7 +5,7 @@
 #include "extract/stitch.h"
 #include "extract/templates.h"
 #include "post/cavities.h"
-#include "field/meta/metavertex.h"
+#include "field/field_ops.h"
 #include "core/units.h"
 #include "grid/select.h"
 #include "post/small_pieces.h"
@@ -18,28 +18,21 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
 static jm_status make_template(jm_context *ctx);
 
 /* The particles sorted into cells with their densities or links; the
- * anisotropic kernels, whose reach widens the frame's band. */
+ * field's own per-particle data (the anisotropic kernels, whose reach
+ * widens the frame's band). */
 static jm_status stage_grid(jm_frame *f, const jm_particles *in)
 {
-    jm_mem *mem = &f->ctx->mem;
-    jm_status s = jm_grid_build(&f->g, mem, f->ctx->pool, f->c, in);
+    jm_status s = jm_grid_build(&f->g, &f->ctx->mem, f->ctx->pool, f->c, in);
     if (s != JM_OK) {
         f->st->estimated_bytes = f->g.refused_bytes; /* the neighbour links over the limit */
         return s;
     }
-    if (f->c->aniso) {
-        s = jm_aniso_build(&f->g, mem, f->ctx->pool, f->c);
-        if (s != JM_OK) return s;
-        f->cfg = *f->c;
-        if (f->g.an_reach > f->cfg.influence) f->cfg.influence = f->g.an_reach;
-        f->c = &f->cfg;
-    }
-    return JM_OK;
+    return f->field->frame_grid ? f->field->frame_grid(&f->g, &f->ctx->mem, f->ctx->pool, &f->c, &f->cfg) : JM_OK;
 }
 
-/* The blocks the particles reach; the metasphere's blocks list the cells
- * that reach them (their hoods are filled from the lists, with the cells'
- * coordinates); the frame refused when its estimate is over the limit. */
+/* The blocks the particles reach, and what they read of the grid's cells
+ * (the metasphere's blocks list the cells that reach them); the frame
+ * refused when its estimate is over the limit. */
 static jm_status stage_blocks(jm_frame *f, size_t count)
 {
     jm_context *ctx = f->ctx;
@@ -47,11 +40,7 @@ static jm_status stage_blocks(jm_frame *f, size_t count)
     jm_stats *st = f->st;
     jm_status s = jm_blocks_build(c, &f->g, &ctx->mem, &f->bs, ctx->threads, &st->estimated_bytes);
     if (s != JM_OK) return s;
-    if (c->field == JM_FIELD_METASPHERE) {
-        if (!jm_block_cells(c, &f->g, &ctx->mem, &f->bs)) return JM_E_OUT_OF_MEMORY;
-    } else {
-        jm_grid_drop_coords(&f->g, &ctx->mem); /* read no more */
-    }
+    if (!f->field->frame_blocks(c, &f->g, &ctx->mem, &f->bs)) return JM_E_OUT_OF_MEMORY;
     st->particles = count;
     st->isolated = f->g.n_isolated;
     st->blocks = f->bs.count;
@@ -71,7 +60,7 @@ static jm_status stage_prepare(jm_frame *f)
     jm_status s;
     if (f->g.n_isolated && !ctx->have_tmpl && (s = make_template(ctx)) != JM_OK) return s;
     if ((s = jm_context_scratch(ctx)) != JM_OK) return s;
-    f->env = (jm_block_env){&f->g, f->c, &f->bs, mem};
+    f->env = (jm_block_env){&f->g, f->c, &f->bs, mem, f->field};
     f->nb = f->bs.count ? f->bs.count : 1;
     f->vbase = jm_calloc(mem, f->nb, sizeof *f->vbase);
     f->bmap = jm_calloc(mem, f->nb, sizeof *f->bmap);
@@ -101,14 +90,13 @@ static jm_status stage_prepare(jm_frame *f)
     return JM_OK;
 }
 
-/* The metasphere's stitched mesh: the sag offset and normals facing their triangles (metafinish.c). */
-static jm_status stage_meta_finish(jm_frame *f)
+/* The field's last pass over the stitched mesh (the metasphere's sag
+ * offset and normals facing their triangles). */
+static jm_status stage_field_finish(jm_frame *f)
 {
     jm_context *ctx = f->ctx;
-    const jm_config *c = f->c;
-    if (c->field != JM_FIELD_METASPHERE || (!c->compensate && !c->normals)) return JM_OK;
-    return jm_meta_finish(&ctx->mem, ctx->pool, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni / 3, c->compensate,
-                          c->normals, 0.1f * c->h)
+    if (!f->field->frame_finish) return JM_OK;
+    return f->field->frame_finish(f->c, &ctx->mem, ctx->pool, ctx->pos, ctx->nrm, ctx->nv, ctx->idx, ctx->ni)
                ? JM_OK
                : JM_E_OUT_OF_MEMORY;
 }
@@ -222,6 +210,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     f.ctx = ctx;
     f.c = c;
     f.st = st;
+    f.field = jm_field_ops_of(c); /* chosen once: every stage asks it */
     jm_status s = stage_grid(&f, in);
     if (s == JM_OK) s = stage_blocks(&f, in->count);
     if (s == JM_OK) s = stage_prepare(&f);
@@ -234,7 +223,7 @@ static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in
     (void)jm_scratch_even(ctx->scratch, ctx->nscratch);
     double t2 = jm_now_ms();
     s = jm_frame_stitch(&f);
-    if (s == JM_OK) s = stage_meta_finish(&f);
+    if (s == JM_OK) s = stage_field_finish(&f);
     if (s != JM_OK) goto out;
     double t3 = jm_now_ms();
     f.t_stitch += t3 - t2;

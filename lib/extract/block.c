@@ -1,15 +1,10 @@
-/* block.c - meshes one block: samples the field, marches its cubes, welds vertices, adds normals/UVs. */
+/* block.c - meshes one block: samples its field (field_ops.h), marches its cubes, welds vertices, adds normals/UVs. */
 #include "extract/block.h"
+#include "field/field_ops.h"
+#include "field/meta/metasplat.h"
 #include "field/aniso/aniso_boxes.h"
-#include "field/aniso/aniso_cull.h"
-#include "field/aniso/aniso_normals.h"
-#include "field/aniso/aniso_splat.h"
 #include "field/sph/cull.h"
 #include "field/sph/inside_boxes.h"
-#include "field/meta/metaroot.h"
-#include "field/meta/metasplat.h"
-#include "field/meta/metavertex.h"
-#include "field/sph/splat.h"
 #include "extract/tables.h"
 #include <math.h>
 #include <stdlib.h>
@@ -17,9 +12,6 @@
 
 /* bytes the inside flags' buffer holds past the block's nodes (row_configs) */
 #define JM_IN_SLACK 32
-/* Interpolation parameters are kept this far from the edge ends, so no two
- * vertices meet at a lattice node (no zero-area triangles). */
-#define JM_T_MIN 0.01f
 
 /* the box passes' work buffer: the isotropic one's or the anisotropic's */
 static size_t box_bytes(void)
@@ -157,71 +149,6 @@ static void sort_pairs(uint32_t *p, size_t n)
     }
 }
 
-/* the part (of S^3, x fastest) of the block holding p */
-static inline int part_of(const float p[3], const float lo[3], const float inv[3], int S)
-{
-    int q = 0;
-    for (int a = 2; a >= 0; a--) {
-        int k = (int)((p[a] - lo[a]) * inv[a]);
-        q = q * S + (k < 0 ? 0 : (k >= S ? S - 1 : k));
-    }
-    return q;
-}
-
-/* SPH normals of the block's vertices. The block is cut into S^3 parts
- * about a support radius wide; each part gathers only the particles within
- * the support of its box, so a vertex sums over a few times the particles
- * that reach it instead of over all that reach the block (30 times more for
- * blocks three supports wide). 0 if out of memory. */
-static int sph_normals(const jm_grid *g, const jm_config *c, jm_scratch *s, const float lo[3], const float hi[3],
-                       jm_bout *out)
-{
-    int S = (int)lrintf((hi[0] - lo[0]) / c->support);
-    S = S < 1 ? 1 : (S > 4 ? 4 : S);
-    const size_t nv = out->nv;
-    if (nv > s->cap_order) {
-        uint32_t *o = jm_realloc_lasting(s->hood.mem, s->order, s->cap_order * sizeof *o, nv * sizeof *o);
-        if (!o) return 0;
-        s->order = o;
-        s->cap_order = nv;
-    }
-    /* counting sort of the vertices by part */
-    uint32_t start[65] = {0};
-    float inv[3];
-    for (int a = 0; a < 3; a++) inv[a] = (float)S / (hi[a] - lo[a]);
-    for (size_t v = 0; v < nv; v++) start[part_of(&out->pos[3 * v], lo, inv, S) + 1]++;
-    for (int q = 0; q < S * S * S; q++) start[q + 1] += start[q];
-    uint32_t fill[64];
-    memcpy(fill, start, sizeof fill);
-    for (size_t v = 0; v < nv; v++) s->order[fill[part_of(&out->pos[3 * v], lo, inv, S)]++] = (uint32_t)v;
-    for (int q = 0; q < S * S * S; q++) {
-        if (start[q] == start[q + 1]) continue;
-        int qi[3] = {q % S, (q / S) % S, q / (S * S)};
-        float plo[3], phi[3];
-        for (int a = 0; a < 3; a++) {
-            float w = (hi[a] - lo[a]) / (float)S;
-            plo[a] = qi[a] == 0 ? lo[a] : lo[a] + w * (float)qi[a];
-            phi[a] = qi[a] == S - 1 ? hi[a] : lo[a] + w * (float)(qi[a] + 1);
-        }
-        /* a vertex of this part lies within [plo, phi] up to rounding:
-         * widen by a hundredth of the support */
-        for (int a = 0; a < 3; a++) {
-            plo[a] -= 0.01f * c->support;
-            phi[a] += 0.01f * c->support;
-        }
-        if (c->aniso) {
-            jm_aniso_gather(g, &s->an_cand, plo, phi, &s->an_list);
-            if (s->an_list.n == SIZE_MAX) return 0;
-            jm_aniso_normals(&s->an_list, s->order + start[q], start[q + 1] - start[q], out->pos, out->nrm);
-            continue;
-        }
-        jm_sph_gather(g, c, &s->hood, plo, phi, &s->soa);
-        if (s->soa.n == SIZE_MAX) return 0;
-        jm_sph_normals(c, &s->soa, s->order + start[q], start[q + 1] - start[q], out->pos, out->nrm);
-    }
-    return 1;
-}
-
 /* in[i] = f[i] > thr for i in [i0, i1); returns how many are inside */
 #ifdef __SSE2__
 #include <emmintrin.h>
@@ -300,109 +227,49 @@ static uint32_t row_configs(const uint8_t *i00, const uint8_t *i10, const uint8_
 }
 #endif
 
-/* The block's metasphere vertices on their edges (metaroot.c): each root
- * for jm_meta_probe (its point, pt), the vertex kept from the nodes */
-static void meta_roots(const jm_grid *g, const jm_config *c, jm_scratch *s, jm_bout *out)
-{
-    jm_roots *r = &s->roots;
-    jm_roots_solve(g, c, r);
-    for (size_t v = 0; v < r->n; v++) {
-        const float tt = r->t[v], tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
-        const float a[3] = {r->ax[v], r->ay[v], r->az[v]}, ab[3] = {r->bx[v], r->by[v], r->bz[v]};
-        float *pt = &s->probe.pt[3 * v], *p = &out->pos[3 * v];
-        s->probe.t[v] = tt;
-        for (int q = 0; q < 3; q++) {
-            pt[q] = a[q] + tt * ab[q];
-            p[q] = a[q] + tc * ab[q];
-        }
-    }
-    r->n = 0;
-}
 
-void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
+/* The field on the block's nodes, through the frame's field (field_ops.h):
+ * NULL where there is nothing to mesh (no particle near, proven outside,
+ * every node proven inside) or out of memory (out->failed). With culling,
+ * the nodes proven inside are not sampled: *span gives each row's rest. */
+static const float *sample_block(const jm_block_env *env, size_t b, jm_scratch *s, const float lo[3],
+                                 const float hi[3], size_t *fs, const uint8_t **span, jm_bout *out)
 {
     const jm_config *c = env->c;
-    const jm_grid *g = env->g;
     const jm_block_set *bs = env->blocks;
-    jm_bout_reset(out);
-    s->roots.n = 0;
-    const int B = s->B, n = B + 1;
-    const uint64_t key = bs->key[b];
-    const uint64_t mask = (uint64_t)JM_KEY_MAX - 1;
-    const int64_t rel[3] = {(int64_t)(key & mask), (int64_t)((key >> JM_KEY_BITS) & mask),
-                            (int64_t)(key >> (2 * JM_KEY_BITS))};
-    int64_t node0[3];
-    for (int a = 0; a < 3; a++) node0[a] = (rel[a] + bs->origin[a]) * B;
-    float *xs[3] = {s->x, s->y, s->z};
-    for (int a = 0; a < 3; a++)
-        for (int i = 0; i < n; i++) xs[a][i] = (float)((double)(node0[a] + i) * (double)c->h);
-    const float lo[3] = {s->x[0], s->y[0], s->z[0]}, hi[3] = {s->x[B], s->y[B], s->z[B]};
-    out->cells = (size_t)B * B * B;
-
-    double t0 = jm_now_ms();
-    const int hood_ok = bs->cell_start ? jm_hood_build_listed(&s->hood, g, c, lo, hi, bs->cells + bs->cell_start[b],
+    const jm_field_ops *fo = env->field;
+    const int n = s->B + 1;
+    const int hood_ok = bs->cell_start ? jm_hood_build_listed(&s->hood, env->g, c, lo, hi, bs->cells + bs->cell_start[b],
                                                              bs->cell_start[b + 1] - bs->cell_start[b])
-                                       : jm_hood_build(&s->hood, g, c, lo, hi);
-    if (!hood_ok) { out->failed = 1; return; }
-    if (s->hood.particles == 0) return;
-    /* anisotropic kernels: the ones reaching the block (and the normals'
-     * part boxes, a hundredth of a support wider), looked at from here on */
-    if (c->aniso && !jm_aniso_candidates(g, &s->hood, lo, hi, 0.02f * c->support, &s->an_cand)) {
-        out->failed = 1;
-        return;
-    }
+                                       : jm_hood_build(&s->hood, env->g, c, lo, hi);
+    if (!hood_ok) { out->failed = 1; return NULL; }
+    if (s->hood.particles == 0) return NULL;
+    if (fo->block_prepare && !fo->block_prepare(env, s, lo, hi)) { out->failed = 1; return NULL; }
     size_t inner = 0;
-    if (c->cull && (c->aniso ? jm_aniso_block_outside(g, c, &s->an_cand, lo, hi, &inner)
-                             : jm_sph_block_outside(g, c, &s->hood, lo, hi, &inner))) {
-        /* proven to hold no inside node (cull.c): sampling would find none
-         * and return here below, with nothing to mesh */
-        out->t_field = jm_now_ms() - t0;
-        return;
-    }
-    size_t fs;
-    const float *fv;
-    const uint8_t *span = NULL;
-    const int an_boxes = c->aniso && c->cull && jm_aniso_boxes_apply(c, inner, lo, hi);
-    if (c->cull && (an_boxes || jm_sph_block_full(c, inner, lo, hi))) {
-        /* the SPH field, a block a third full of fluid or more: partial
-         * sums or boxes prove nodes inside; only the nodes next to the
-         * others are sampled (cull.c, aniso_cull.c, aniso_boxes.c) */
-        float proof = c->threshold;
-        if (an_boxes) proof = jm_aniso_boxes(g, c, &s->an_cand, s->x, s->y, s->z, n, s->boxes, s->part);
-        else if (c->aniso) jm_aniso_partial(g, c, &s->an_cand, s->x, s->y, s->z, n, s->part);
-        else if (jm_sph_boxes_apply(c, inner, lo, hi)) { /* JM_BOX_FILL full, fine lattice */
-            proof = jm_sph_box_threshold(c, &s->hood);
-            jm_sph_boxes(g, c, &s->hood, s->x, s->y, s->z, n, s->boxes, s->part);
-        } else {
-            proof = jm_sph_partial_threshold(c, &s->hood);
-            jm_sph_partial(g, c, &s->hood, s->x, s->y, s->z, n, s->part);
-        }
+    *span = NULL;
+    /* proven to hold no inside node (cull.c): sampling would find none */
+    if (c->cull && fo->outside(env, s, lo, hi, &inner)) return NULL;
+    float proof;
+    if (c->cull && fo->inside(env, s, inner, lo, hi, &proof)) {
+        /* only the nodes next to those not proven inside are sampled */
         size_t keep = jm_sph_spans(s->part, n, proof, s->span);
-        if (keep == 0) {
-            out->t_field = jm_now_ms() - t0;
-            return; /* every node inside */
-        }
-        if (keep < (size_t)n * n * n) span = s->span;
-        if (c->aniso) jm_aniso_sample(g, c, &s->an_cand, s->x, s->y, s->z, n, span, s->pad);
-        else jm_sph_sample(g, c, &s->hood, s->x, s->y, s->z, n, span, s->pad);
-        fv = s->pad;
-        fs = JM_PAD(n);
-    } else if (c->aniso) {
-        jm_aniso_sample(g, c, &s->an_cand, s->x, s->y, s->z, n, NULL, s->pad);
-        fv = s->pad;
-        fs = JM_PAD(n);
-    } else {
-        fv = jm_field_sample(g, c, &s->hood, s->x, s->y, s->z, n, s->f, s->win, s->rowstate, s->pad, &fs);
+        if (keep == 0) return NULL; /* every node inside */
+        if (keep < (size_t)n * n * n) *span = s->span;
     }
-    const float thr = c->threshold;
+    return fo->sample(env, s, n, *span, fs);
+}
+
+/* The inside flags of the n^3 nodes (fv: the field, rows fs apart; off a
+ * row's span, proven inside), and per node row whether it is all outside
+ * (0), all inside (1) or mixed (2) into s->rowstate. splat_rows: the
+ * metasphere's rows no piece reached (metasplat.h, in rowstate until read
+ * here) are all outside. Returns how many nodes are inside. */
+static size_t classify(jm_scratch *s, const float *fv, size_t fs, const uint8_t *span, float thr, int splat_rows)
+{
+    const int n = s->B + 1;
     const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
-    /* inside flags, and per node row whether it is all outside (0), all
-     * inside (1) or mixed (2) */
     uint8_t *rs = s->rowstate;
-    /* the metasphere's rows no piece reached (metasplat.h, in rowstate
-     * until read here) are all outside */
-    const int splat_rows = c->field == JM_FIELD_METASPHERE;
     if (splat_rows) memset(s->in, 0, nn);
     for (size_t r = 0; r < (size_t)n * n; r++) {
         const float *f = fv + r * fs;
@@ -423,26 +290,145 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
         rs[r] = sum == 0 ? 0 : (sum == (size_t)n ? 1 : 2);
         inside += sum;
     }
-    double t1 = jm_now_ms();
-    out->t_field = t1 - t0;
-    if (inside == 0 || inside == nn) return;
+    return inside;
+}
 
-    const int meta = c->field == JM_FIELD_METASPHERE;
-    const jm_case_table *tab = c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
-    const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
-    jm_mem *mem = env->mem;
-    const size_t sn = (size_t)n, sn2 = sn * sn;
-    size_t corner_off[8];
-    for (int k = 0; k < 8; k++) corner_off[k] = (k & 1) + ((k >> 1) & 1) * sn + ((k >> 2) & 1) * sn2;
-    /* 1 / the length of a direction with 1, 2 or 3 unit steps */
-    float inv_len[4];
-    for (int m = 1; m < 4; m++) inv_len[m] = 1.0f / sqrtf((float)m);
-    inv_len[0] = 0.0f;
-    size_t dir_off[7];
-    for (int d = 0; d < 7; d++) dir_off[d] = jm_dir[d][0] + jm_dir[d][1] * sn + jm_dir[d][2] * sn2;
+/* One block's marching: its field, its lattice and what it produces. */
+typedef struct {
+    const jm_block_env *env;
+    jm_scratch *s;
+    jm_bout *out;
+    const float *fv;   /* the field, rows fs apart */
+    size_t fs, sn, sn2;
+    float thr;
+    int B, meta;
+    int64_t rel[3];    /* the block's coordinates */
+    size_t corner_off[8], dir_off[7];
+    float inv_len[4];  /* 1 / the length of a direction with 0 to 3 unit steps */
+} march_job;
 
-    /* node rows that are all inside or all outside (rs, above): a row of
-     * cubes between four such rows, all alike, has no surface */
+/* A new vertex of this block on the edge from node na = (ni, nj, nk) along
+ * dir (its vertex slot: slot); a vertex on a low face also goes into bmap,
+ * for the blocks below to find. Its ref, or 0 with out->failed set. */
+static inline uint32_t own_vertex(const march_job *m, size_t na, size_t slot, int dir, int ni, int nj, int nk)
+{
+    jm_bout *out = m->out;
+    jm_scratch *s = m->s;
+    jm_mem *mem = m->env->mem;
+    if (!grow_vertices(mem, out)) { out->failed = 1; return 0; }
+    const size_t sn = m->sn, fs = m->fs;
+    size_t nb = na + m->dir_off[dir];
+    const int *dv = jm_dir[dir];
+    const float fa = m->fv[((size_t)nk * sn + (size_t)nj) * fs + (size_t)ni];
+    const float fb = m->fv[((size_t)(nk + dv[2]) * sn + (size_t)(nj + dv[1])) * fs + (size_t)(ni + dv[0])];
+    const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
+    const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
+    const float thr = m->thr;
+    float tt = (thr - fa) / (fb - fa);
+    if (m->meta) {
+        /* the root and the position once the block's edges are all found
+         * (metaroot.h) */
+        uint32_t *cv = &out->cand[2 * out->nv];
+        cv[0] = s->win[na];
+        cv[1] = s->win[nb];
+        if (!jm_roots_add(&s->roots, a, ab, fa - thr, tt, cv) ||
+            !jm_probe_add(&s->probe, out->nv, (uint32_t)slot, (uint32_t)(ni | nj << 8 | nk << 16), tt, a)) {
+            out->failed = 1;
+            return 0;
+        }
+    } else {
+        float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
+        float *p = &out->pos[3 * out->nv];
+        for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
+    }
+    /* fallback normal: along the edge, from inside to outside (the
+     * metasphere's are blended from every piece near the vertex once the
+     * block is done: jm_meta_normals_probe) */
+    float sign = fa > thr ? 1.0f : -1.0f, inv = m->inv_len[dv[0] + dv[1] + dv[2]];
+    float *nr = &out->nrm[3 * out->nv];
+    for (int q = 0; q < 3; q++) nr[q] = sign * (float)dv[q] * inv;
+    const uint32_t ref = (uint32_t)out->nv++;
+    if (ni == 0 || nj == 0 || nk == 0) {
+        if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {
+            out->failed = 1;
+            return 0;
+        }
+        out->bmap[2 * out->nb] = (uint32_t)slot;
+        out->bmap[2 * out->nb + 1] = ref;
+        out->nb++;
+    }
+    return ref;
+}
+
+/* A vertex on an edge from node (ni, nj, nk) along dir that a later block
+ * owns: a pending reference to (owner block, its slot), resolved by the
+ * stitching. Its ref, or 0 with out->failed set. */
+static inline uint32_t pending_vertex(const march_job *m, int dir, int ni, int nj, int nk)
+{
+    jm_bout *out = m->out;
+    const int B = m->B;
+    int o[3] = {ni == B, nj == B, nk == B};
+    uint64_t okey = jm_key3(m->rel[0] + o[0], m->rel[1] + o[1], m->rel[2] + o[2]);
+    uint32_t owner = jm_hashmap_get(&m->env->blocks->map, okey);
+    if (owner == UINT32_MAX) { out->failed = 2; return 0; }
+    size_t onode = ((size_t)(nk - B * o[2]) * m->sn + (size_t)(nj - B * o[1])) * m->sn + (size_t)(ni - B * o[0]);
+    if (!grow(m->env->mem, (void **)&out->pend, &out->capp, out->np + 1, 2 * sizeof(uint32_t))) {
+        out->failed = 1;
+        return 0;
+    }
+    out->pend[2 * out->np] = owner;
+    out->pend[2 * out->np + 1] = (uint32_t)(onode * 7 + (size_t)dir);
+    return JM_PENDING | (uint32_t)out->np++;
+}
+
+/* Cube (i, j, k) of configuration cfg (its first node nd): each distinct
+ * edge's vertex once (welded through s->vt), then the triangles. 0 if it
+ * failed (out->failed). */
+static inline int march_cube(const march_job *m, const jm_case_table *tab, size_t nd, int i, int j, int k,
+                             unsigned cfg)
+{
+    jm_bout *out = m->out;
+    jm_scratch *s = m->s;
+    const int B = m->B;
+    int nt = tab->ntri[cfg];
+    if (!grow(m->env->mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
+        out->failed = 1;
+        return 0;
+    }
+    const uint8_t *ue = tab->uedge[cfg], *lt = tab->local[cfg];
+    const int ne = tab->nedge[cfg];
+    uint32_t refs[19];
+    for (int q = 0; q < ne; q++) {
+        int e = ue[q];
+        int corner = jm_cube_edge_corner[e], dir = jm_cube_edge_dir[e];
+        size_t na = nd + m->corner_off[corner];
+        size_t slot = na * 7 + (size_t)dir;
+        uint32_t ref = s->vt[slot];
+        if (ref == UINT32_MAX) {
+            int ni = i + (corner & 1), nj = j + ((corner >> 1) & 1), nk = k + ((corner >> 2) & 1);
+            ref = ni < B && nj < B && nk < B ? own_vertex(m, na, slot, dir, ni, nj, nk)
+                                             : pending_vertex(m, dir, ni, nj, nk);
+            if (out->failed) return 0;
+            s->vt[slot] = ref;
+            s->touched[s->ntouched++] = (uint32_t)slot;
+        }
+        refs[q] = ref;
+    }
+    uint32_t *tri = out->tri + out->ni;
+    for (int t = 0; t < 3 * nt; t++) tri[t] = refs[lt[t]];
+    out->ni += 3 * (size_t)nt;
+    return 1;
+}
+
+/* Every cube the surface cuts, row by row: a row of cubes between four node
+ * rows all inside or all outside alike (s->rowstate) has no surface. */
+static void march(const march_job *m)
+{
+    const jm_scratch *s = m->s;
+    const int B = m->B;
+    const size_t sn = m->sn, sn2 = m->sn2;
+    const uint8_t *rs = s->rowstate;
+    const jm_case_table *tab = m->env->c->method == JM_METHOD_MC ? jm_table_mc() : jm_table_mt();
     for (int k = 0; k < B; k++)
         for (int j = 0; j < B; j++) {
             size_t row = ((size_t)k * sn + j) * sn;
@@ -453,111 +439,73 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
             uint8_t cfgs[32];
             for (uint32_t cut = row_configs(i00, i10, i01, i11, B, cfgs); cut; cut &= cut - 1) {
                 const int i = __builtin_ctz(cut);
-                size_t nd = row + i;
-                const unsigned cfg_here = cfgs[i];
-                int nt = tab->ntri[cfg_here];
-                if (!grow(mem, (void **)&out->tri, &out->capt, out->ni + 3 * (size_t)nt, sizeof(uint32_t))) {
-                    out->failed = 1;
-                    goto done;
-                }
-                /* each distinct edge's vertex once, then the triangles */
-                const uint8_t *ue = tab->uedge[cfg_here], *lt = tab->local[cfg_here];
-                const int ne = tab->nedge[cfg_here];
-                uint32_t refs[19];
-                for (int q = 0; q < ne; q++) {
-                    int e = ue[q];
-                    int corner = jm_cube_edge_corner[e], dir = jm_cube_edge_dir[e];
-                    size_t na = nd + corner_off[corner];
-                    size_t slot = na * 7 + (size_t)dir;
-                    uint32_t ref = s->vt[slot];
-                    if (ref == UINT32_MAX) {
-                        int ni = i + (corner & 1), nj = j + ((corner >> 1) & 1), nk = k + ((corner >> 2) & 1);
-                        if (ni < B && nj < B && nk < B) {
-                            if (!grow_vertices(mem, out)) { out->failed = 1; goto done; }
-                            size_t nb = na + dir_off[dir];
-                            const int *dv = jm_dir[dir];
-                            const float fa = fv[((size_t)nk * sn + (size_t)nj) * fs + (size_t)ni];
-                            const float fb = fv[((size_t)(nk + dv[2]) * sn + (size_t)(nj + dv[1])) * fs + (size_t)(ni + dv[0])];
-                            const float a[3] = {s->x[ni], s->y[nj], s->z[nk]};
-                            const float ab[3] = {s->x[ni + dv[0]] - a[0], s->y[nj + dv[1]] - a[1], s->z[nk + dv[2]] - a[2]};
-                            float tt = (thr - fa) / (fb - fa);
-                            uint32_t *cv = meta ? &out->cand[2 * out->nv] : NULL;
-                            if (meta) {
-                                /* the root and the position once the
-                                 * block's edges are all found (metaroot.h) */
-                                cv[0] = s->win[na];
-                                cv[1] = s->win[nb];
-                                if (!jm_roots_add(&s->roots, a, ab, fa - thr, tt, cv) ||
-                                    !jm_probe_add(&s->probe, out->nv, (uint32_t)slot, (uint32_t)(ni | nj << 8 | nk << 16), tt, a)) {
-                                    out->failed = 1;
-                                    goto done;
-                                }
-                            } else {
-                                float tc = tt < JM_T_MIN ? JM_T_MIN : (tt > 1.0f - JM_T_MIN ? 1.0f - JM_T_MIN : tt);
-                                float *p = &out->pos[3 * out->nv];
-                                for (int q = 0; q < 3; q++) p[q] = a[q] + tc * ab[q];
-                            }
-                            /* fallback normal: along the edge, from inside to outside */
-                            float sign = fa > thr ? 1.0f : -1.0f, inv = inv_len[dv[0] + dv[1] + dv[2]];
-                            float *nr = &out->nrm[3 * out->nv];
-                            for (int a = 0; a < 3; a++) nr[a] = sign * (float)dv[a] * inv;
-                            /* (the metasphere's are blended from every
-                             * piece near the vertex once the block is done:
-                             * jm_meta_normals_probe) */
-                            ref = (uint32_t)out->nv++;
-                            if (ni == 0 || nj == 0 || nk == 0) {
-                                if (!grow(mem, (void **)&out->bmap, &out->capb, out->nb + 1, 2 * sizeof(uint32_t))) {
-                                    out->failed = 1;
-                                    goto done;
-                                }
-                                out->bmap[2 * out->nb] = (uint32_t)slot;
-                                out->bmap[2 * out->nb + 1] = ref;
-                                out->nb++;
-                            }
-                        } else {
-                            int o[3] = {ni == B, nj == B, nk == B};
-                            uint64_t okey = jm_key3(rel[0] + o[0], rel[1] + o[1], rel[2] + o[2]);
-                            uint32_t owner = jm_hashmap_get(&bs->map, okey);
-                            if (owner == UINT32_MAX) { out->failed = 2; goto done; }
-                            size_t onode = ((size_t)(nk - B * o[2]) * sn + (size_t)(nj - B * o[1])) * sn +
-                                           (size_t)(ni - B * o[0]);
-                            if (!grow(mem, (void **)&out->pend, &out->capp, out->np + 1, 2 * sizeof(uint32_t))) {
-                                out->failed = 1;
-                                goto done;
-                            }
-                            out->pend[2 * out->np] = owner;
-                            out->pend[2 * out->np + 1] = (uint32_t)(onode * 7 + (size_t)dir);
-                            ref = JM_PENDING | (uint32_t)out->np++;
-                        }
-                        s->vt[slot] = ref;
-                        s->touched[s->ntouched++] = (uint32_t)slot;
-                    }
-                    refs[q] = ref;
-                }
-                uint32_t *tri = out->tri + out->ni;
-                for (int t = 0; t < 3 * nt; t++) tri[t] = refs[lt[t]];
-                out->ni += 3 * (size_t)nt;
+                if (!march_cube(m, tab, row + i, i, j, k, cfgs[i])) return;
             }
         }
-done:
+}
+
+/* The block's lattice: its key's coordinates (rel), its nodes' coordinates
+ * (s->x, y, z) and its box [lo, hi]. */
+static void block_lattice(const jm_block_env *env, size_t b, jm_scratch *s, int64_t rel[3], float lo[3], float hi[3])
+{
+    const jm_block_set *bs = env->blocks;
+    const int B = s->B, n = B + 1;
+    const uint64_t key = bs->key[b];
+    const uint64_t mask = (uint64_t)JM_KEY_MAX - 1;
+    rel[0] = (int64_t)(key & mask);
+    rel[1] = (int64_t)((key >> JM_KEY_BITS) & mask);
+    rel[2] = (int64_t)(key >> (2 * JM_KEY_BITS));
+    int64_t node0[3];
+    for (int a = 0; a < 3; a++) node0[a] = (rel[a] + bs->origin[a]) * B;
+    float *xs[3] = {s->x, s->y, s->z};
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < n; i++) xs[a][i] = (float)((double)(node0[a] + i) * (double)env->c->h);
+    for (int a = 0; a < 3; a++) {
+        lo[a] = xs[a][0];
+        hi[a] = xs[a][B];
+    }
+}
+
+void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out)
+{
+    const jm_config *c = env->c;
+    const jm_field_ops *fo = env->field;
+    jm_bout_reset(out);
+    s->roots.n = 0;
+    const int B = s->B, n = B + 1;
+    march_job m = {.env = env, .s = s, .out = out, .thr = c->threshold, .B = B, .meta = fo->meta};
+    float lo[3], hi[3];
+    block_lattice(env, b, s, m.rel, lo, hi);
+    out->cells = (size_t)B * B * B;
+
+    double t0 = jm_now_ms();
+    const uint8_t *span;
+    m.fv = sample_block(env, b, s, lo, hi, &m.fs, &span, out);
+    if (!m.fv) {
+        out->t_field = jm_now_ms() - t0;
+        return;
+    }
+    const size_t inside = classify(s, m.fv, m.fs, span, m.thr, fo->meta);
+    double t1 = jm_now_ms();
+    out->t_field = t1 - t0;
+    if (inside == 0 || inside == (size_t)n * n * n) return;
+
+    const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
+    m.sn = (size_t)n;
+    m.sn2 = m.sn * m.sn;
+    for (int k = 0; k < 8; k++) m.corner_off[k] = (k & 1) + ((k >> 1) & 1) * m.sn + ((k >> 2) & 1) * m.sn2;
+    for (int q = 1; q < 4; q++) m.inv_len[q] = 1.0f / sqrtf((float)q);
+    m.inv_len[0] = 0.0f;
+    for (int d = 0; d < 7; d++) m.dir_off[d] = jm_dir[d][0] + jm_dir[d][1] * m.sn + jm_dir[d][2] * m.sn2;
+    march(&m);
     for (size_t t = 0; t < s->ntouched; t++) s->vt[s->touched[t]] = UINT32_MAX;
     s->ntouched = 0;
-    if (meta && !out->failed) meta_roots(g, c, s, out);
+    if (fo->vertices && !out->failed) fo->vertices(env, s, out);
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    if (meta && !jm_meta_probe(g, c, &s->hood, &s->probe, want_nrm ? &s->mnorm : NULL, B, s->x, s->y, s->z, s->f,
-                               out->pos, out->cand, out->nv)) {
-        out->failed = 1;
-        return;
-    }
-    if (meta && want_nrm && !jm_meta_normals_finish(g, c, &s->hood, &s->probe, &s->mnorm, B, s->x, s->y, s->z,
-                                                    out->pos, out->nrm, out->nv)) {
-        out->failed = 1;
-        return;
-    }
     sort_pairs(out->bmap, out->nb);
-    if (!meta && want_nrm && out->nv && !sph_normals(g, c, s, lo, hi, out)) { out->failed = 1; return; }
+    if (!fo->finish(env, s, lo, hi, want_nrm, out)) { out->failed = 1; return; }
     if (c->uv_mode != JM_UV_NONE)
         jm_uv_all(c, out->pos, out->nrm, out->uv, out->nv);
     out->t_attr = jm_now_ms() - t2;

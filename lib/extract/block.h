@@ -10,6 +10,9 @@
 /* What one block produced. Vertex refs in tri: an owned vertex's local index,
  * or JM_PENDING | k for the k-th (owner block, owner slot) pair in pend. */
 #define JM_PENDING 0x80000000u
+/* Interpolation parameters are kept this far from the edge ends, so no two
+ * vertices meet at a lattice node (no zero-area triangles). */
+#define JM_T_MIN 0.01f
 typedef struct jm_bout {
     float *pos, *nrm, *uv;
     uint32_t *cand;           /* metasphere: 2 candidate pieces per vertex */
@@ -71,11 +74,13 @@ int jm_block_cells(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_s
 int jm_hood_build_listed(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3],
                          const uint32_t *cells, size_t ncells);
 
+struct jm_field_ops;
 typedef struct jm_block_env {
     const jm_grid *g;
     const jm_config *c;
     const jm_block_set *blocks;
     jm_mem *mem;
+    const struct jm_field_ops *field; /* the frame's field (field_ops.h) */
 } jm_block_env;
 
 int jm_scratch_init(jm_scratch *s, int B);

@@ -1,7 +1,5 @@
 /* field.c - the metasphere and SPH fields: splatting onto block nodes, gradients at points. */
 #include "field/field.h"
-#include "field/meta/metasplat.h"
-#include "field/sph/splat.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,20 +51,6 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
                 }
             }
     return 1;
-}
-
-const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                             const float *y, const float *z, int n, float *f, uint32_t *win, uint8_t *rows,
-                             float *pad, size_t *out_stride)
-{
-    if (c->field == JM_FIELD_SPH) {
-        jm_sph_sample(g, c, hood, x, y, z, n, NULL, pad);
-        *out_stride = JM_PAD(n);
-        return pad;
-    }
-    jm_meta_sample(g, c, hood, x, y, z, n, f, win, rows);
-    *out_stride = (size_t)n;
-    return f;
 }
 
 /* out[a] = x_a / d for a < 3, as three divisions would give them: one

@@ -74,17 +74,6 @@ static inline void jm_hood_cell_span(const jm_grid *g, const jm_hood *hood, int 
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 
-/* Samples the field on nodes x[i], y[j], z[k] (i, j, k < n) and returns the
- * values: node (i, j, k) at [(k n + j) *out_stride + i] (in f for the
- * metasphere, stride n; in pad for SPH, stride JM_PAD(n); the anisotropic
- * kernels: aniso_splat.h).
- * Metasphere: win[node] (stride n) receives the primitive that gave the
- * node's value (UINT32_MAX where clamped); see jm_prim_eval; only the rows
- * rows[k n + j] says are written (metasplat.h). */
-const float *jm_field_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x,
-                             const float *y, const float *z, int n, float *f, uint32_t *win, uint8_t *rows,
-                             float *pad, size_t *out_stride);
-
 /* Row length of the padded sampling buffer (n^2 rows): a multiple of 8 with
  * room for a run of 8 starting at any of the n nodes. */
 #define JM_PAD(n) (((n) + 14) & ~7)

@@ -14,7 +14,7 @@ enum {
 
 /* Samples the metasphere on nodes x[i], y[j], z[k] (i, j, k < n, n >= 9):
  * node (i, j, k) at f[(k n + j) n + i] and the piece that gave it in win
- * (UINT32_MAX where clamped at the floor), as jm_field_sample describes,
+ * (UINT32_MAX where clamped at the floor; jm_prim_eval names the pieces),
  * but only in the rows a piece reaches and the rows next to them (rows:
  * the state of each). A cube touches only its own four rows, so every cube
  * with a node in a reached row reads written values; the others are
