@@ -1,6 +1,7 @@
 /* context.c - the context: parameters, threads, workers' scratch, the mesh's output arrays, kept across frames. */
 #include "context.h"
 #include "core/units.h"
+#include "post/smooth.h"
 #include "core/grow.h"
 #include "core/keep.h"
 #include "post/interpolate.h"

@@ -2,7 +2,7 @@
 #ifndef JETMESH_FRAME_H
 #define JETMESH_FRAME_H
 #include "extract/block.h"
-#include "post/post.h"
+#include "post/post_mesh.h"
 #include <stdatomic.h>
 
 struct jm_context {

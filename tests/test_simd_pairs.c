@@ -14,7 +14,7 @@
 #include "../lib/field/aniso/aniso_normals.h"
 #include "../lib/core/cpu.h"
 #include "../lib/field/meta/metafinish16.h"
-#include "../lib/field/meta/metavertex.h"
+#include "../lib/field/meta/metafinish.h"
 #include "../lib/core/sym3.h"
 
 static float frand(unsigned *s)

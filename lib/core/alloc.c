@@ -38,10 +38,6 @@ static void *huge(void *p, size_t bytes)
     return p;
 }
 
-static _Atomic size_t heap_calls;
-void jm_heap_note(void) { atomic_fetch_add_explicit(&heap_calls, 1, memory_order_relaxed); }
-size_t jm_heap_calls(void) { return atomic_load(&heap_calls); }
-
 /* The counters are updated from worker threads, hence atomics. */
 static void count_add(jm_mem *a, size_t bytes)
 {

@@ -43,11 +43,7 @@ void *jm_realloc_lasting(jm_mem *m, void *p, size_t old_bytes, size_t new_bytes)
  * memory counted elsewhere: grow.c); m may be NULL. */
 void *jm_raw_alloc(jm_mem *m, size_t bytes);
 void jm_raw_free(jm_mem *m, void *p, size_t bytes);
-/* Every call the library makes to malloc, calloc, realloc, posix_memalign,
- * free, mmap, mremap or munmap for its arrays: jm_heap_note() counts one,
- * jm_heap_calls() the count so far (tests: tests/test_realtime.c). */
-void jm_heap_note(void);
-size_t jm_heap_calls(void);
+#include "core/heap_calls.h"
 /* Advises the kernel to back [p, p + bytes) with huge pages where it can
  * (Linux; elsewhere nothing): fewer page faults for large arrays. */
 void jm_huge_advise(void *p, size_t bytes);

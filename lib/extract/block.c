@@ -6,6 +6,8 @@
 #include "field/sph/cull.h"
 #include "field/sph/inside_boxes.h"
 #include "extract/tables.h"
+#include "extract/hood_cells.h"
+#include "extract/uv.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -2,6 +2,7 @@
 #ifndef JETMESH_BLOCK_H
 #define JETMESH_BLOCK_H
 #include "field/field.h"
+#include "field/sph/sph_normals.h"
 #include "field/aniso/anisotropy.h"
 #include "field/meta/metaprobe.h"
 #include "field/meta/metanormal.h"
@@ -64,15 +65,6 @@ typedef struct jm_block_set {
     size_t ncells;
 } jm_block_set;
 
-/* The cells with a particle not isolated whose influence reaches each block
- * of bs (cell_start, cells; the grid's cell coordinates still there): 0 if
- * out of memory. */
-int jm_block_cells(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_set *bs);
-/* jm_hood_build from a block's listed cells: the cells around the box
- * [lo, hi] not listed hold no particle that reaches it but isolated ones
- * (which the metasphere's splats skip): their ranges are empty. */
-int jm_hood_build_listed(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3],
-                         const uint32_t *cells, size_t ncells);
 
 struct jm_field_ops;
 typedef struct jm_block_env {
@@ -86,19 +78,10 @@ typedef struct jm_block_env {
 int jm_scratch_init(jm_scratch *s, int B);
 size_t jm_scratch_bytes(int B); /* heap bytes of one scratch */
 void jm_scratch_free(jm_scratch *s);
-/* After a frame's blocks (n workers' scratch s): every growing buffer
- * grown to the largest any worker needed (scratch_even.c), so that the
- * next frame, its blocks no larger, allocates nothing whichever worker
- * takes which block. 0 if out of memory (the buffers stay valid). */
-int jm_scratch_even(jm_scratch *s, int n);
 void jm_bout_reset(jm_bout *o);
 void jm_bout_free(jm_bout *o, jm_mem *mem);
 
 /* Meshes block index b into out (out reset first). */
 void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *out);
 
-/* Texture coordinates of one vertex. */
-void jm_uv(const jm_config *c, const float p[3], const float n[3], float uv[2]);
-/* jm_uv of nv vertices (pos, nrm: 3 floats each; uv: 2), the same values */
-void jm_uv_all(const jm_config *c, const float *pos, const float *nrm, float *uv, size_t nv);
 #endif

@@ -1,6 +1,7 @@
 /* templates.c - isolated particles meshed as copies of one particle's mesh (the template), translated. */
 #include "extract/templates.h"
 #include "context.h"
+#include "extract/uv.h"
 
 static void template_task(void *arg, size_t k, int worker)
 {

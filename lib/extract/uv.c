@@ -1,5 +1,5 @@
 /* uv.c - texture coordinates that depend only on world position, normal and parameters. */
-#include "extract/block.h"
+#include "extract/uv.h"
 #include <math.h>
 
 void jm_uv(const jm_config *c, const float p[3], const float n[3], float uv[2])

@@ -1,6 +1,6 @@
 /* clip.c - the mesh clip box: triangles with a corner outside removed, or the vertices outside clamped onto the box. */
 #include "post/clip.h"
-#include "extract/block.h"
+#include "extract/uv.h"
 #include "extract/compact.h"
 #include "post/pieces.h"
 #include <string.h>

@@ -1,5 +1,5 @@
 /* simplify.c - simplification to a geometric error with meshoptimizer (the only file that includes it), checked closed and manifold. */
-#include "post/post.h"
+#include "post/simplify.h"
 #include <meshoptimizer.h>
 #include <pthread.h>
 #include <stdatomic.h>

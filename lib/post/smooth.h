@@ -1,7 +1,7 @@
 /* smooth.h - the bounded smoothing's shared state and helpers (smooth.c and its stages smooth_*.c). */
 #ifndef JETMESH_SMOOTH_H
 #define JETMESH_SMOOTH_H
-#include "post/post.h"
+#include "post/post_mesh.h"
 #include <string.h>
 
 /* The tasks' loops cloned for AVX2 (three-operand instructions), chosen at
@@ -195,4 +195,13 @@ void *sm_scratch(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes);
 enum { SB_DEG, SB_INV, SB_NB8, SB_NC8, SB_BIG, SB_BNB, SB_A, SB_B, SB_DIR, SB_COMP, SB_ODD, SB_PIECE, SB_KEEP,
        SB_FLAG, SB_COUNT };
 _Static_assert(SB_COUNT == JM_POST_BUFS, "the scratch has a buffer per SB_ name");
+/* The post-processing's working arrays given back (smooth.c). */
+void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem);
+
+/* Smooths the lattice part of m (smooth.c): c->smooth_iters steps of
+ * Laplacian smoothing, every vertex's move along its raw normal bounded,
+ * with the enclosed volume of every connected piece restored, normals from
+ * the new surface, then c->smooth_normal_iters iterations of normal
+ * smoothing and fresh UVs. Deterministic for any thread count. */
+jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *scratch, const jm_config *c, jm_post_mesh *m);
 #endif

@@ -1,6 +1,6 @@
 /* smooth_normals.c - the smoothed mesh's normals, normal smoothing over neighbours facing the same side, and fresh UVs. */
 #include "post/smooth.h"
-#include "extract/block.h"
+#include "extract/uv.h"
 
 /* Each normal: the fan's area vector of the smoothed surface (job->src)
  * made unit, or the field's normal where the fan has no area. */

@@ -2,7 +2,8 @@
 #include "field/meta/meta_field.h"
 #include "field/meta/metaroot.h"
 #include "field/meta/metasplat.h"
-#include "field/meta/metavertex.h"
+#include "field/meta/metafinish.h"
+#include "extract/hood_cells.h"
 
 static int frame_blocks(const jm_config *c, jm_grid *g, jm_mem *mem, jm_block_set *bs)
 {

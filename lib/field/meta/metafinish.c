@@ -1,5 +1,5 @@
 /* metafinish.c - the stitched metasphere mesh's last pass: chord-sag compensation, normals kept facing their triangles. */
-#include "field/meta/metavertex.h"
+#include "field/meta/metafinish.h"
 #include "field/meta/metafinish16.h"
 #include <math.h>
 #include <string.h>

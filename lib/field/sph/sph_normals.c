@@ -1,5 +1,5 @@
 /* sph_normals.c - SPH normals: the particles near a part of a block gathered in groups of 8 (only the hood's cells that can hold them visited) and the gradient summed over them. */
-#include "field/field.h"
+#include "field/sph/sph_normals.h"
 #include "core/cpu.h"
 #include "core/cubic8.h"
 #include <math.h>

@@ -1,5 +1,5 @@
 /* scratch_even.c - the workers' growing scratch evened out after a frame's blocks, so that any worker can take any block of a frame as large without allocating. */
-#include "extract/block.h"
+#include "extract/scratch_even.h"
 #include <string.h>
 
 /* *p, an array of cap elements of width bytes (contents not kept), grown

@@ -1,5 +1,5 @@
 /* hood_cells.c - the cells that reach each block, listed once a frame: a metasphere block's hood is filled from its list instead of looking up every cell around it. */
-#include "extract/block.h"
+#include "extract/hood_cells.h"
 #include <math.h>
 #include <string.h>
 
