@@ -29,7 +29,7 @@ void jm_context_drop_template(jm_context *ctx)
 }
 
 /* The growing buffers of a worker's scratch, counted as they grew (their
- * mem pointers, set in ensure_scratch) and freed by jm_scratch_free. */
+ * mem pointers, set in jm_context_scratch) and freed by jm_scratch_free. */
 static size_t scratch_grown(const jm_scratch *s)
 {
     return s->hood.cap * 2 * sizeof(uint32_t) + s->soa.cap * 4 * sizeof(float) + s->cap_order * sizeof(uint32_t) +
@@ -213,17 +213,12 @@ void jm_context_trim(jm_context *ctx)
     }
 }
 
-/* Before a frame of n particles that releases its grid: gives back the last
- * frame's mesh arrays that live in their own mappings (grow.h: 1 MiB and
- * more), when the grid (about 17 bytes a particle) is at least half that
- * mesh. Held, the last mesh would sit beside the whole grid, over the
- * frame's own peak (its mesh and a band of the grid) by up to the grid's
- * size; given back, it is faulted in again as it regrows, and the time
- * that takes follows the mesh (measured: the 8M-particle block, grid 0.54
- * of its mesh, 92 MiB off its peak of 395 for about 2 % more time; the 1M
- * block, 0.27, would save 5 MiB of 83 for 3 to 6 % more). Smaller arrays
- * stay: in the heap, they would fault back per 4 KiB page (the
- * 125-particle jet took twice as long). */
+/* Before a frame of n particles that releases its grid: the last frame's
+ * mesh arrays that live in their own mappings (grow.h) given back when the
+ * grid (about 17 bytes a particle) is at least half that mesh, so that the
+ * last mesh does not sit beside the whole grid over the frame's own peak
+ * (its mesh and a band of the grid). Smaller arrays stay: in the heap,
+ * they would fault back in page by page. */
 void jm_context_drop_mesh(jm_context *ctx, size_t n)
 {
     const size_t mesh = ctx->capv * 8 * sizeof(float) + ctx->capi * sizeof(uint32_t);

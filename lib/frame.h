@@ -28,10 +28,10 @@ struct jm_context {
     uint32_t *t_idx;
     size_t t_nv, t_ni;
     float t_origin[3];
-    jm_post_scratch post; /* post-processing arrays (post.h) */
+    jm_post_scratch post; /* post-processing arrays (post_mesh.h) */
 };
 
-/* Whether the mesh is post-processed (post.h), which reads the particles */
+/* Whether the mesh is post-processed (smoothing, simplification), which reads the particles */
 static inline int jm_frame_post(const jm_config *c)
 {
     return c->smooth_iters || c->smooth_normal_iters || c->simplify_error > 0.0f;

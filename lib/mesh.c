@@ -135,7 +135,7 @@ static jm_status stage_cavities(jm_frame *f)
     return JM_OK;
 }
 
-/* Bounded smoothing, normal smoothing and simplification (post.h). */
+/* Bounded smoothing, normal smoothing (smooth.h) and simplification (simplify.h). */
 static jm_status stage_post(jm_frame *f)
 {
     jm_context *ctx = f->ctx;

@@ -3,7 +3,7 @@
 #include <math.h>
 #include <string.h>
 
-/* The block range of cell ci along each axis, as build_blocks (mesh.c)
+/* The block range of cell ci along each axis, as jm_blocks_build (blockset.c)
  * puts its blocks in the set: the blocks its particles' influence reaches */
 static void cell_blocks(const jm_config *c, const jm_grid *g, const jm_block_set *bs, size_t ci, int64_t lo[3],
                         int64_t hi[3])
