@@ -1,4 +1,4 @@
-/* field.c - the metasphere and SPH fields: splatting onto block nodes, gradients at points. */
+/* field.c - the cells of the grid around a block (its hood), and one metasphere piece evaluated at a point. */
 #include "field/field.h"
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* field.h - samples the implicit function on a block of lattice nodes and evaluates its gradient. */
+/* field.h - what every field reads: the cells around a block (its hood), node spans, the metasphere's pieces evaluated at a point. */
 #ifndef JETMESH_FIELD_H
 #define JETMESH_FIELD_H
 #include "grid/grid.h"
