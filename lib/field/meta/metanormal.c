@@ -1,5 +1,6 @@
 /* metanormal.c - metasphere vertex normals blended from every ball and neck within the blend band of each vertex. */
 #include "field/meta/metanormal.h"
+#include "field/meta/metapieces.h"
 #include "core/cpu.h"
 #include <math.h>
 #include <string.h>
