@@ -19,14 +19,16 @@ BUILD   ?= build
 PREFIX  ?= /usr/local
 DESTDIR ?=
 
-ALL_CFLAGS   = $(CSTD) $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CFLAGS)
+# lib's own headers are named from lib/ ("core/internal.h"); the tests' white-box includes too
+ALL_CFLAGS   = $(CSTD) $(OPT) $(WARN) $(SAN) -Ilib -fPIC -pthread -MMD -MP $(CFLAGS)
 ALL_CXXFLAGS = -std=c++17 $(OPT) $(WARN) $(SAN) -fPIC -pthread -MMD -MP $(CXXFLAGS)
 FMT_LIBS     = -ltinygltf -ldraco -lz
-# the library's only dependency beyond libc: meshoptimizer (lib/simplify.c)
+# the library's only dependency beyond libc: meshoptimizer (lib/post/simplify.c)
 LIB_LIBS     = -lmeshoptimizer
 LIBS         = $(FMT_LIBS) $(LIB_LIBS) -lstdc++ -lm -pthread
 
-LIB_SRC   := $(wildcard lib/*.c)
+# lib/: the pipeline (mesh.c) and its stage folders (core, grid, field/*, extract, post)
+LIB_SRC   := $(wildcard lib/*.c lib/*/*.c lib/*/*/*.c)
 FMT_CSRC  := $(wildcard formats/*.c formats/*/*.c)
 FMT_XSRC  := $(wildcard formats/*.cpp formats/*/*.cpp)
 CLI_SRC   := $(wildcard cli/*.c cli/*/*.c)
@@ -60,7 +62,7 @@ LIB_OPT ?= -O3 -g -fno-math-errno -fno-trapping-math
 $(LIB_OBJ): OPT = $(LIB_OPT)
 # lanes8.h's vectors live in static functions only, inlined into each
 # CPU's clone: the note that passing them would change the ABI is moot
-$(BUILD)/lib/metaroot.o $(BUILD)/lib/metavertex.o $(BUILD)/lib/cavities.o: WARN += -Wno-psabi
+$(BUILD)/lib/field/meta/metaroot.o $(BUILD)/lib/field/meta/metavertex.o $(BUILD)/lib/post/cavities.o: WARN += -Wno-psabi
 
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)

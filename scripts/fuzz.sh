@@ -35,7 +35,7 @@ build() { # target
   echo "fuzz: building fuzz_$1"
   # the meshing target also builds the library (and its one dependency)
   lib=""
-  [ "$1" = mesh ] && lib="$(ls "$root"/lib/*.c) -lmeshoptimizer -lstdc++ -pthread"
+  [ "$1" = mesh ] && lib="-I$root/lib $(find "$root/lib" -name "*.c" | sort) -lmeshoptimizer -lstdc++ -pthread"
   # shellcheck disable=SC2086
   "$cc" -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined \
     -std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Wall -Wextra \

@@ -7,7 +7,7 @@ cd "$root" || exit 1
 [ -f "$B/tests/test_aniso_cull.o" ] && [ -f "$B/libjetmesh.a" ] || { echo "FAIL: build first (make tests-build)"; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 CC=${CC:-cc}
-flags="-std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -O2 -fno-math-errno -fno-trapping-math -pthread"
+flags="-std=c11 -D_POSIX_C_SOURCE=200809L -D_DEFAULT_SOURCE -Ilib -O2 -fno-math-errno -fno-trapping-math -pthread"
 # each broken object replaces the library's own (the linker takes an archive
 # member only for symbols still undefined)
 # break 1 (the block bound) only shows on the real frames of ../shared/data:
@@ -20,7 +20,7 @@ if [ ! -f "$SHARED/data/splashsurf/bunny_frame_14_7705_particles.vtk" ]; then
 fi
 tutil=$(make --no-print-directory -s BUILD="$B" print-tutil)
 for brk in $breaks; do
-  src=lib/aniso_cull.c; [ "$brk" = 2 ] && src=lib/aniso_splat.c; [ "$brk" = 3 ] && src=lib/aniso_boxes.c
+  src=lib/field/aniso/aniso_cull.c; [ "$brk" = 2 ] && src=lib/field/aniso/aniso_splat.c; [ "$brk" = 3 ] && src=lib/field/aniso/aniso_boxes.c
   $CC $flags -DJM_AN_CULL_BREAK=$brk -c "$src" -o "$tmp/broken$brk.o" || { echo "FAIL: compiling $src"; exit 1; }
   # shellcheck disable=SC2086 # tutil: a list of objects
   $CC -o "$tmp/t$brk" "$B/tests/test_aniso_cull.o" $tutil "$tmp/broken$brk.o" "$B/libjetmesh_formats.a" \

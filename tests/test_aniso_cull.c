@@ -10,11 +10,11 @@
 #include <string.h>
 
 #include "../lib/jetmesh.h"
-#include "../lib/aniso_boxes.h"
-#include "../lib/aniso_splat.h"
-#include "../lib/cull.h"
-#include "../lib/grid.h"
-#include "../lib/inside_boxes.h"
+#include "../lib/field/aniso/aniso_boxes.h"
+#include "../lib/field/aniso/aniso_splat.h"
+#include "../lib/field/sph/cull.h"
+#include "../lib/grid/grid.h"
+#include "../lib/field/sph/inside_boxes.h"
 #include "util/cull_check.h"
 #include "util/lattice.h"
 #include "util/sheets.h"

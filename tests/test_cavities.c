@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/cavities.h"
+#include "../lib/post/cavities.h"
 
 static uint32_t next(uint32_t *s)
 {

@@ -10,9 +10,9 @@
 #include <string.h>
 
 #include "../lib/jetmesh.h"
-#include "../lib/cull.h"
-#include "../lib/inside_boxes.h"
-#include "../lib/splat.h"
+#include "../lib/field/sph/cull.h"
+#include "../lib/field/sph/inside_boxes.h"
+#include "../lib/field/sph/splat.h"
 #include "util/cull_check.h"
 #include "util/lattice.h"
 

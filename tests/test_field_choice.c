@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "../formats/reader.h"
-#include "../lib/internal.h"
+#include "../lib/core/internal.h"
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
 #include "util/shared_data.h"

@@ -10,7 +10,7 @@
 #include <stdatomic.h>
 
 #include "../lib/jetmesh.h"
-#include "../lib/grid.h"
+#include "../lib/grid/grid.h"
 #include "util/lattice.h"
 
 /* A jittered lattice of S^3 particles at spacing 2r (r = 0.025): its box

@@ -9,8 +9,8 @@
 #include <unistd.h>
 
 #include "../lib/jetmesh.h"
-#include "../lib/internal.h"
-#include "../lib/grid.h"
+#include "../lib/core/internal.h"
+#include "../lib/grid/grid.h"
 
 /* A column of fluid, W x W x H particles on a jittered lattice of spacing
  * 2r (r = 0.025), long in z so that the block sweep, which runs in z,

@@ -11,7 +11,7 @@
 
 #include "../lib/jetmesh.h"
 #include "util/meshcheck.h"
-#include "../lib/tables.h" /* internal: the generated case tables */
+#include "../lib/extract/tables.h" /* internal: the generated case tables */
 
 static jm_context *make(jm_params p)
 {

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "../lib/jetmesh.h"
-#include "../lib/field.h" /* internal: the scratch buffers (white-box test) */
+#include "../lib/field/sph/sph_normals.h" /* internal: the scratch buffers (white-box test) */
 
 /* a block of nx * ny * nz particles `gap` apart, slightly sheared */
 static float *block(int nx, int ny, int nz, float gap, size_t *n)

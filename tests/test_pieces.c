@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../lib/pieces.h"
+#include "../lib/post/pieces.h"
 
 static uint32_t next(uint32_t *s)
 {

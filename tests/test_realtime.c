@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "../lib/jetmesh.h"
-#include "../lib/internal.h" /* white-box: jm_heap_calls, the library's own count */
+#include "../lib/core/internal.h" /* white-box: jm_heap_calls, the library's own count */
 
 /* Every call to the C library's allocator and to the kernel's mappings in
  * this process is counted while `counting` is set: the library's own

@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "../formats/reader.h"
-#include "../lib/internal.h"
-#include "../lib/small_pieces.h"
+#include "../lib/core/internal.h"
+#include "../lib/post/small_pieces.h"
 #include "util/meshcheck.h"
 #include "util/shared_data.h"
 

@@ -10,12 +10,12 @@
 #include <string.h>
 
 /* internal (white-box test): the paths under test and the switch between them */
-#include "../lib/aniso_moments.h"
-#include "../lib/aniso_normals.h"
-#include "../lib/cpu.h"
-#include "../lib/metafinish16.h"
-#include "../lib/metavertex.h"
-#include "../lib/sym3.h"
+#include "../lib/field/aniso/aniso_moments.h"
+#include "../lib/field/aniso/aniso_normals.h"
+#include "../lib/core/cpu.h"
+#include "../lib/field/meta/metafinish16.h"
+#include "../lib/field/meta/metafinish.h"
+#include "../lib/core/sym3.h"
 
 static float frand(unsigned *s)
 {

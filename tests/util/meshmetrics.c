@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "../../cli/bench/mesh_distance.h"
-#include "../../lib/sym3.h"
+#include "../../lib/core/sym3.h"
 
 #define DEG (180.0 / M_PI)
 

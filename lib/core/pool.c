@@ -1,0 +1,131 @@
+/* pool.c - a small pthread pool: parallel loops with dynamic chunking, the caller taking part. */
+#include "core/internal.h"
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <time.h>
+
+struct jm_pool {
+    int n;                 /* workers including the caller */
+    pthread_t *threads;
+    pthread_mutex_t mu;
+    pthread_cond_t wake, done;
+    unsigned long generation;
+    int quit;
+    int busy;              /* helpers still inside the current job */
+    /* the current job */
+    jm_task_fn fn;
+    void *arg;
+    size_t items, chunk;
+    _Atomic size_t next;
+};
+
+static void work(jm_pool *p, int worker)
+{
+    for (;;) {
+        size_t start = atomic_fetch_add(&p->next, p->chunk);
+        if (start >= p->items) break;
+        size_t end = start + p->chunk < p->items ? start + p->chunk : p->items;
+        for (size_t i = start; i < end; i++) p->fn(p->arg, i, worker);
+    }
+}
+
+typedef struct { jm_pool *pool; int worker; } helper_arg;
+
+static void *helper_main(void *varg)
+{
+    helper_arg *ha = varg;
+    jm_pool *p = ha->pool;
+    int worker = ha->worker;
+    free(ha);
+    unsigned long seen = 0;
+    pthread_mutex_lock(&p->mu);
+    for (;;) {
+        while (!p->quit && p->generation == seen) pthread_cond_wait(&p->wake, &p->mu);
+        if (p->quit) break;
+        seen = p->generation;
+        pthread_mutex_unlock(&p->mu);
+        work(p, worker);
+        pthread_mutex_lock(&p->mu);
+        if (--p->busy == 0) pthread_cond_signal(&p->done);
+    }
+    pthread_mutex_unlock(&p->mu);
+    return NULL;
+}
+
+jm_status jm_pool_create(int nthreads, jm_pool **out)
+{
+    *out = NULL;
+    if (nthreads < 1) nthreads = 1;
+    jm_pool *p = calloc(1, sizeof *p);
+    if (!p) return JM_E_OUT_OF_MEMORY;
+    p->n = nthreads;
+    pthread_mutex_init(&p->mu, NULL);
+    pthread_cond_init(&p->wake, NULL);
+    pthread_cond_init(&p->done, NULL);
+    atomic_init(&p->next, 0);
+    if (nthreads > 1) {
+        p->threads = calloc((size_t)nthreads - 1, sizeof *p->threads);
+        if (!p->threads) { jm_pool_free(p); return JM_E_OUT_OF_MEMORY; }
+        for (int i = 1; i < nthreads; i++) {
+            helper_arg *ha = malloc(sizeof *ha);
+            if (ha) { ha->pool = p; ha->worker = i; }
+            if (!ha || pthread_create(&p->threads[i - 1], NULL, helper_main, ha) != 0) {
+                free(ha);
+                p->n = i; /* threads [1, i) exist */
+                jm_pool_free(p);
+                return JM_E_THREAD;
+            }
+        }
+    }
+    *out = p;
+    return JM_OK;
+}
+
+void jm_pool_free(jm_pool *p)
+{
+    if (!p) return;
+    pthread_mutex_lock(&p->mu);
+    p->quit = 1;
+    pthread_cond_broadcast(&p->wake);
+    pthread_mutex_unlock(&p->mu);
+    for (int i = 1; i < p->n; i++) pthread_join(p->threads[i - 1], NULL);
+    free(p->threads);
+    pthread_mutex_destroy(&p->mu);
+    pthread_cond_destroy(&p->wake);
+    pthread_cond_destroy(&p->done);
+    free(p);
+}
+
+int jm_pool_threads(const jm_pool *p) { return p ? p->n : 1; }
+
+void jm_pool_run(jm_pool *p, size_t n, size_t chunk, jm_task_fn fn, void *arg)
+{
+    if (n == 0) return;
+    if (chunk == 0) chunk = 1;
+    if (!p || p->n == 1 || n <= chunk) {
+        for (size_t i = 0; i < n; i++) fn(arg, i, 0);
+        return;
+    }
+    pthread_mutex_lock(&p->mu);
+    p->fn = fn;
+    p->arg = arg;
+    p->items = n;
+    p->chunk = chunk;
+    atomic_store(&p->next, 0);
+    p->busy = p->n - 1;
+    p->generation++;
+    pthread_cond_broadcast(&p->wake);
+    pthread_mutex_unlock(&p->mu);
+    work(p, 0);
+    pthread_mutex_lock(&p->mu);
+    while (p->busy > 0) pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+}
+
+double jm_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}

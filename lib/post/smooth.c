@@ -1,0 +1,182 @@
+/* smooth.c - bounded Laplacian smoothing of a mesh: bumps of the particles' size removed, the surface kept within half a radius, every piece's volume restored. */
+#include "post/smooth.h"
+#include "post/pieces.h"
+
+/*
+ * Issue 31. Laplacian smoothing (Löschner et al. 2023, as splashsurf does it)
+ * removes the SPH "orange peel" but is diffusion: left alone it also wears
+ * away what is larger than a bump (a crest's round beads become horns, a
+ * dense droplet shrinks to nothing, the outline pulls in by 2 radii).
+ * Feature weights from the particles' neighbour counts slow it where the
+ * particles are few, but a dense droplet's count looks like bulk fluid.
+ * Here the smoothing is bounded instead: every vertex moves freely along
+ * the surface, but its move along its raw normal stays within +-0.5 r, and
+ * within a quarter of its piece's thickness 3 V / A where that is less (a
+ * jet's column, a pair: smooth_steps.c). A bump of the particles' size (a
+ * few tenths of r high) is smoothed away; a droplet, a crest, a thin neck
+ * or a ripple taller than that keeps its shape, moved by at most half a
+ * radius, whatever the particles' count says. Then every piece gets its raw
+ * volume back by an offset along the raw normals within the same band
+ * (smooth_volume.c): no piece can lose more than the band lets it; and no
+ * triangle stays turned over (smooth_guard.c). The iterations are those of
+ * plain Laplacian smoothing, run in fewer passes (smooth_plan.c); normals:
+ * smooth_normals.c.
+ */
+#define SM_BAND 0.5f /* the band's half width, in r: the most a vertex moves along its raw normal */
+#define SM_THIN 0.25 /* ... and at most this times its piece's thickness 3 V / A (a jet's column, a pair) */
+
+void sm_run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, void *arg)
+{
+    /* each thread one contiguous range, the same every pass: the lines a
+     * thread wrote stay in its cache for the next pass (chunks handed out
+     * as they come made 2 threads no faster than one); any split gives the
+     * same result */
+    const size_t t = (size_t)jm_pool_threads(pool);
+    jm_pool_run(pool, nchunks, (nchunks + t - 1) / t, fn, arg);
+}
+
+void *sm_scratch(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes)
+{
+    if (bytes == 0) bytes = 1;
+    if (s->bytes[k] >= bytes) return s->p[k];
+    size_t want = bytes + bytes / 4;
+    jm_free(mem, s->p[k], s->bytes[k]);
+    s->p[k] = jm_alloc_lasting(mem, want);
+    s->bytes[k] = s->p[k] ? want : 0;
+    return s->p[k];
+}
+
+void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
+{
+    for (int k = 0; k < JM_POST_BUFS; k++) jm_free(mem, s->p[k], s->bytes[k]);
+    memset(s, 0, sizeof *s);
+}
+
+/* The pieces: labels in vertex order (a root is the piece's smallest
+ * vertex: the cavity pass's roots when it hands them over). */
+static size_t label_pieces(jm_pool *pool, const jm_post_mesh *m, size_t nv, uint32_t *comp)
+{
+    const uint32_t *roots = m->roots;
+    if (!roots) {
+        jm_mesh_pieces(pool, comp, m->idx, nv, m->ni_lattice / 3);
+        roots = comp;
+    }
+    size_t n = 0;
+    for (size_t v = 0; v < nv; v++) comp[v] = roots[v] == v ? (uint32_t)n++ : comp[roots[v]];
+    return n;
+}
+
+/* Each vertex's raw frame from the raw positions job->src (4 per vertex):
+ * its unit fan normal n and -x0 . n, or 0 without a normal; per run the
+ * volume sum (p - o) . A (smooth_volume.c) and the sum of |A|. */
+JM_SM_CLONES static void frame_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    const sm_runs *r = &job->runs;
+    size_t kb = sm_lower_bound(job->f.big, job->f.nbig, chunk * SM_CH);
+    for (uint32_t k = r->chunk_run[chunk]; k < r->chunk_run[chunk + 1]; k++) {
+        const double *o = &job->origin[3 * (size_t)r->piece[k]];
+        double vol = 0.0, area = 0.0;
+        for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
+            const v4f A = sm_fan_area(job, job->src, v, &kb), p = sm_load4(&job->src[4 * v]);
+            const float l = sqrtf(sm_dot3(A, A));
+            v4f n = {0.0f, 0.0f, 0.0f, 0.0f};
+            if (l > 0.0f) {
+                n = A / l;
+                n[3] = -sm_dot3(p, n); /* so that t = (x, 1) . dir */
+            }
+            sm_store4(&job->dir[4 * v], n);
+            vol += ((double)p[0] - o[0]) * A[0] + ((double)p[1] - o[1]) * A[1] + ((double)p[2] - o[2]) * A[2];
+            area += l;
+        }
+        r->sum[SM_RUN_SUMS * k] = vol;
+        r->sum[SM_RUN_SUMS * k + 1] = area;
+    }
+}
+
+/* The positions: c->smooth_iters iterations of bounded steps, then the
+ * volume restoration, into m->pos; the result also in *out (4 per vertex). */
+static jm_status smooth_positions(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *job, const float **out)
+{
+    const size_t nv = job->nv;
+    uint32_t *comp = sm_scratch(sc, mem, SB_COMP, nv * sizeof *comp);
+    float *a = sm_scratch(sc, mem, SB_A, (nv + 1) * 4 * sizeof *a), *b = sm_scratch(sc, mem, SB_B, (nv + 1) * 4 * sizeof *b);
+    job->dir = sm_scratch(sc, mem, SB_DIR, nv * 4 * sizeof *job->dir);
+    uint32_t *odd = sm_scratch(sc, mem, SB_ODD, nv * sizeof *odd);
+    if (!comp || !a || !b || !job->dir || !odd) return JM_E_OUT_OF_MEMORY;
+    job->comp = comp;
+    const size_t np = job->npieces = label_pieces(pool, job->m, nv, comp);
+    /* per piece: origin 3, volume, thickness, work 4, then its band */
+    double *origin = sm_scratch(sc, mem, SB_PIECE, np * (9 * sizeof *origin + sizeof(float)));
+    if (!origin) return JM_E_OUT_OF_MEMORY;
+    double *vol0 = origin + 3 * np, *thick = vol0 + np, *work = thick + np;
+    float *band = (float *)(work + 4 * np);
+    for (size_t v = 0, k = 0; v < nv && k < np; v++)
+        if (comp[v] == k) { /* a piece's first vertex (the labels come in vertex order): its origin */
+            for (int j = 0; j < 3; j++) origin[3 * k + j] = job->m->pos[3 * v + j];
+            k++;
+        }
+    jm_status st = sm_runs_build(mem, comp, nv, job->nchunks, &job->runs);
+    if (st != JM_OK) return st;
+
+    /* the raw frame: positions (x, y, z, 1) with a -0 sentinel row (the
+     * padding of the fans of 8), normals, the odd vertices (no or over 8
+     * neighbours, or no normal), volumes and thicknesses */
+    for (size_t v = 0; v < nv; v++)
+        for (int j = 0; j < 4; j++) a[4 * v + j] = j < 3 ? job->m->pos[3 * v + j] : 1.0f;
+    for (int j = 0; j < 4; j++) a[4 * nv + j] = b[4 * nv + j] = -0.0f;
+    job->src = a;
+    job->origin = origin;
+    sm_run_ranges(pool, job->nchunks, frame_task, job);
+    job->nodd = 0;
+    for (size_t v = 0; v < nv; v++) {
+        const float *d = &job->dir[4 * v];
+        if (job->f.deg[v] - 1 >= 8 || (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f)) odd[job->nodd++] = (uint32_t)v;
+    }
+    job->odd = odd;
+    sm_runs_total(&job->runs, 2, work, np);
+    for (size_t k = 0; k < np; k++) {
+        vol0[k] = work[2 * k] / 9.0;
+        thick[k] = work[2 * k + 1] > 0.0 ? 9.0 * vol0[k] / work[2 * k + 1] : 0.0; /* 3 V / area: |A| sums 3 areas */
+        band[k] = (float)fmin(SM_BAND * job->c->r, SM_THIN * fabs(thick[k]));
+    }
+    job->band = band;
+    float *tau = NULL;
+    const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau);
+    if (nsteps < 0) st = JM_E_OUT_OF_MEMORY;
+    for (int it = 0; it < nsteps; it++) {
+        job->src = a;
+        job->dst = b;
+        job->tau = tau[it];
+        sm_run_ranges(pool, job->nchunks, sm_step_task, job);
+        float *t = a;
+        a = b;
+        b = t;
+    }
+    jm_free(mem, tau, (size_t)(nsteps > 0 ? nsteps : 0) * sizeof *tau);
+    job->src = a;
+    job->dst = b;
+    if (st == JM_OK) sm_restore_volumes(pool, job, vol0, thick, work);
+    if (st == JM_OK) st = sm_guard_folds(pool, job, b);
+    if (st == JM_OK)
+        for (size_t v = 0; v < nv; v++)
+            for (int j = 0; j < 3; j++) job->m->pos[3 * v + j] = b[4 * v + j];
+    *out = b;
+    sm_runs_free(mem, &job->runs);
+    return st;
+}
+
+jm_status jm_smooth_mesh(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const jm_config *c, jm_post_mesh *m)
+{
+    const size_t nv = m->nv_lattice;
+    if (nv == 0 || (c->smooth_iters == 0 && c->smooth_normal_iters == 0)) return JM_OK;
+    /* as block.c: normals exist when output or needed for the UVs */
+    const int want_nrm = c->normals || c->compensate || c->uv_mode == JM_UV_BOX || c->uv_mode == JM_UV_SPHERICAL;
+    sm_job job = {.c = c, .m = m, .mem = mem, .nv = nv, .nchunks = (nv + SM_CH - 1) / SM_CH};
+    jm_status st = sm_fans_build(mem, pool, sc, m, &job.f);
+    const float *pos = NULL; /* the smoothed positions, 4 per vertex */
+    if (st == JM_OK && c->smooth_iters > 0) st = smooth_positions(mem, pool, sc, &job, &pos);
+    if (st == JM_OK) st = sm_normals(mem, pool, sc, &job, pos, want_nrm);
+    return st;
+}

@@ -1,0 +1,73 @@
+/* smooth_steps.c - one step of the bounded smoothing: each vertex to its neighbours' mean, its move along its raw normal kept within the band. */
+#include "post/smooth.h"
+
+/*
+ * A step moves every vertex to the mean of its neighbours (Laplacian
+ * smoothing with the full step, as splashsurf's weighted smoothing takes
+ * in bulk fluid; Löschner et al. 2023), all at once from the previous
+ * positions (Jacobi: no dependence on the order or the threads). Then t,
+ * the vertex's displacement from its raw position along its raw unit
+ * normal, is clamped to the band [-b, b] (b = 0.5 r, smooth.c): bumps of
+ * the particles' size go, the surface stays within half a radius of where
+ * the particles put it (a droplet, a crest, a ripple higher than that
+ * keeps its shape). The move along the surface is free: it evens the
+ * marching cubes' slivers.
+ */
+
+/* p moved back into the band [-b, b] along its raw normal: p + (clamp(t)
+ * - t) n, t = p . dir; the fourth lane (1) stays. */
+static inline v4f into_band(v4f p, v4f dir, float b)
+{
+    const float t = sm_move(p, dir)[0], c = t < -b ? -b : (t > b ? b : t);
+    return p + (c - t) * sm_xyz(dir);
+}
+
+/* Vertex v the careful way: no neighbour or no raw normal (stays), a fan
+ * of more than 8 (summed whole; its fourth lane set to 1). */
+static void step_one(const sm_job *job, size_t v)
+{
+    const float *S = job->src;
+    const uint32_t d = job->f.deg[v];
+    const v4f n = sm_load4(&job->dir[4 * v]);
+    v4f p = sm_load4(&S[4 * v]);
+    if (d != 0 && sm_dot3(n, n) > 0.0f) {
+        v4f sum;
+        if (d <= 8) {
+            sum = sm_add_slots8(SM_NEG0, S, &job->f.nb8[8 * v]);
+        } else {
+            size_t b = sm_lower_bound(job->f.big, job->f.nbig, v);
+            sum = SM_NEG0;
+            for (uint32_t i = job->f.bstart[b]; i < job->f.bstart[b + 1]; i++)
+                sum += sm_load4(&S[4 * (size_t)job->f.bnb[i]]);
+        }
+        p += job->tau * (sum * job->f.inv[v] - p);
+        p[3] = 1.0f;
+        p = into_band(p, n, job->band[job->comp[v]]);
+    }
+    sm_store4(&job->dst[4 * v], p);
+}
+
+/* The step over one chunk, run by run (a piece's band each): the usual
+ * vertex (1 to 8 neighbours, a raw normal) in straight-line code, its
+ * row's 8 slots summed (the -0 sentinel adds nothing), then the odd ones
+ * again one by one. */
+JM_SM_CLONES void sm_step_task(void *arg, size_t chunk, int worker)
+{
+    (void)worker;
+    sm_job *job = arg;
+    const float *S = job->src, *N = job->dir, *inv = job->f.inv;
+    const uint32_t *nb8 = job->f.nb8;
+    const sm_runs *r = &job->runs;
+    float *D = job->dst;
+    for (uint32_t k = r->chunk_run[chunk]; k < r->chunk_run[chunk + 1]; k++) {
+        const float b = job->band[r->piece[k]];
+        for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
+            v4f p = sm_load4(&S[4 * v]);
+            p += job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p);
+            sm_store4(&D[4 * v], into_band(p, sm_load4(&N[4 * v]), b));
+        }
+    }
+    const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    for (size_t i = sm_lower_bound(job->odd, job->nodd, a); i < job->nodd && job->odd[i] < e; i++)
+        step_one(job, job->odd[i]);
+}
