@@ -505,8 +505,10 @@ typedef struct jm_particles {
  */
 typedef struct jm_mesh {
     const float *positions;  /**< 3 floats per vertex */
-    const float *normals;    /**< 3 floats per vertex, unit, outward; or NULL */
-    const float *uvs;        /**< 2 floats per vertex; or NULL */
+    const float *normals;    /**< 3 floats per vertex, unit, outward; NULL
+                                  exactly when no_normals (an empty mesh too) */
+    const float *uvs;        /**< 2 floats per vertex; NULL exactly when
+                                  uv_mode is JM_UV_NONE (an empty mesh too) */
     const uint32_t *indices; /**< 3 per triangle, counter-clockwise from outside */
     size_t vertex_count;
     size_t triangle_count;

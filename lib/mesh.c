@@ -367,8 +367,11 @@ jm_status jm_mesh_particles(jm_context *ctx, const jm_particles *particles, jm_m
         jm_unit_restore(ctx->pos, ctx->nv, ctx->cfg.unit); /* back to world units */
         jm_mesh *m = out_mesh;
         m->positions = ctx->pos;
-        m->normals = ctx->cfg.normals ? ctx->nrm : NULL;
-        m->uvs = ctx->cfg.uv_mode != JM_UV_NONE ? ctx->uv : NULL;
+        /* NULL exactly when not asked for, so an empty frame's file has the
+         * same layout whatever the context meshed before */
+        static const float none[2];
+        m->normals = ctx->cfg.normals ? (ctx->nrm ? ctx->nrm : none) : NULL;
+        m->uvs = ctx->cfg.uv_mode != JM_UV_NONE ? (ctx->uv ? ctx->uv : none) : NULL;
         m->indices = ctx->idx;
         m->vertex_count = ctx->nv;
         m->triangle_count = ctx->ni / 3;

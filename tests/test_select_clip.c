@@ -100,6 +100,44 @@ static void same_mesh(const out *a, const out *b)
     assert_memory_equal(a->idx, b->idx, 3 * a->nt * sizeof(uint32_t));
 }
 
+/* a frame whose every particle is removed gives an empty mesh whose normals
+ * and uvs are NULL exactly when not asked for, on a fresh context and after
+ * a frame with a mesh alike: a writer's layout (a PLY header) does not
+ * depend on what the context meshed before */
+static void test_empty_layout(void **state)
+{
+    (void)state;
+    cloud c = {0};
+    add_block(&c, 3, 0, 0, 0, 5);
+    for (int f = 0; f < 2; f++)
+        for (int asked = 0; asked < 2; asked++) {
+            jm_params p = {0};
+            p.radius = R;
+            p.field = f ? JM_FIELD_SPH : JM_FIELD_METASPHERE;
+            p.no_normals = !asked;
+            p.uv_mode = asked ? JM_UV_SPHERICAL : JM_UV_NONE;
+            jm_params q = p;
+            q.min_piece_particles = 1000; /* removes all 27 */
+            jm_context *fresh = NULL, *used = NULL;
+            assert_int_equal(jm_context_create(&q, &fresh), JM_OK);
+            assert_int_equal(jm_context_create(&p, &used), JM_OK);
+            jm_particles in = {c.xyz, c.n, 0, NULL};
+            jm_mesh m;
+            assert_int_equal(jm_mesh_particles(used, &in, &m, NULL), JM_OK); /* a mesh first */
+            assert_true(m.vertex_count > 0);
+            assert_int_equal(jm_context_set_params(used, &q), JM_OK);
+            for (int k = 0; k < 2; k++) {
+                assert_int_equal(jm_mesh_particles(k ? used : fresh, &in, &m, NULL), JM_OK);
+                assert_int_equal(m.vertex_count, 0);
+                assert_true((m.normals != NULL) == asked);
+                assert_true((m.uvs != NULL) == asked);
+            }
+            jm_context_free(fresh);
+            jm_context_free(used);
+        }
+    free(c.xyz);
+}
+
 /* two blocks far apart: a box around the first meshes exactly what the
  * first alone meshes; a box around no particle meshes nothing */
 static void test_particle_box(void **state)
@@ -433,6 +471,7 @@ int main(void)
         cmocka_unit_test(test_particle_box),
         cmocka_unit_test(test_small_groups),
         cmocka_unit_test(test_small_pieces),
+        cmocka_unit_test(test_empty_layout),
         cmocka_unit_test(test_cavity_in_small_piece),
         cmocka_unit_test(test_clip),
         cmocka_unit_test(test_real_frame_all),
