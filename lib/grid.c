@@ -291,7 +291,7 @@ __attribute__((target("avx2"))) static void dens_avx2(const float *xs, const flo
 /* the 8 lanes in one AVX2 or AVX-512 register where the CPU has them: the
  * same operations per lane in the same order (no FMA: ISO C mode keeps
  * -ffp-contract=off), so the same bits on every machine */
-__attribute__((target_clones("avx512f", "avx2", "default")))
+JM_CLONES_512_AVX2
 #endif
 static void sph_cell(void *arg, size_t ci, int worker)
 {
@@ -439,7 +439,7 @@ static void meta_fill(void *arg, size_t ci, int worker)
 /* ---- the SPH grid in key order, released behind the block sweep */
 static atomic_int mode_key = 1, mode_release = 1;
 static _Atomic size_t mode_page; /* 0: REL_PAGE */
-void jm_grid_test_mode(int key_order, int release, size_t page)
+void jm_testing_grid_mode(int key_order, int release, size_t page)
 {
     atomic_store(&mode_key, key_order != 0);
     atomic_store(&mode_release, release);

@@ -3,7 +3,6 @@
 #include "cpu.h"
 #include <math.h>
 #include <stddef.h>
-#include <stdatomic.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
@@ -148,9 +147,7 @@ size_t jm_box_work_bytes(void) { return sizeof(box_acc); }
 /* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
  * its rounding (cull.c, 3b); along x node i in boxes (i - 1) / 2 and i / 2
  * (clipped to [0, nb)), along y and z in row i / 3 alone. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-__attribute__((target_clones("avx512f", "default"))) /* the same operations per lane either way */
-#endif
+JM_CLONES_512 /* the same operations per lane either way */
 static void spread(box_acc *A, const box_setup *b, int n, float *out)
 {
     const int nb = b->nb, nr = b->nr, ns = JM_PAD(n);
@@ -350,19 +347,11 @@ __attribute__((target("avx2,fma"))) static void boxes_avx2(const jm_grid *g, con
 }
 #endif
 
-/* Which path runs: the CPU's best, or (tests) the one jm_box_test_path set. */
-static _Atomic int forced = -1;
-void jm_box_test_path(int path) { atomic_store(&forced, path); }
-
+/* Which path runs: cpu.h's level (AVX2 comes with FMA there) */
 int jm_box_path(void)
 {
-    int best = JM_BOX_C;
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (jm_cpu_avx2_fma()) best = JM_BOX_AVX2; /* off in the plain and SSE2 variants */
-    if (jm_cpu_avx512()) best = JM_BOX_AVX512;
-#endif
-    const int f = atomic_load(&forced);
-    return f >= 0 && f <= best ? f : best;
+    const int level = jm_cpu_level();
+    return level >= JM_CPU_AVX512 ? JM_BOX_AVX512 : level >= JM_CPU_AVX2 ? JM_BOX_AVX2 : JM_BOX_C;
 }
 
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,

@@ -44,16 +44,14 @@ float jm_sph_box_threshold(const jm_config *c, const jm_hood *h);
  * bound valid at all their nodes, and each node the best of its boxes' (a
  * node whose value is above jm_sph_box_threshold samples above the
  * threshold). n <= 33 (blocks of at most 32 cubes). AVX-512 where the CPU
- * has it, else AVX2 with FMA, else plain C (JM_SPLAT_VARIANT builds 1 and 2:
- * plain C, 3: AVX2): the bound holds for either rounding, so the paths may
- * prove different nodes but the samples, and meshes, are the same. */
+ * has it, else AVX2 with FMA, else plain C (cpu.h's level): the bound
+ * holds for either rounding, so the paths may prove different nodes but the
+ * samples, and meshes, are the same. */
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
                   const float *z, int n, void *work, float *out);
-/* The path jm_sph_boxes runs: the CPU's best, or a lesser one a test asked
- * for with jm_box_test_path (-1: the best again; process-wide). */
+/* The path jm_sph_boxes runs, from cpu.h's level (jm_testing_force_cpu). */
 enum { JM_BOX_C = 0, JM_BOX_AVX2 = 1, JM_BOX_AVX512 = 2 };
 int jm_box_path(void);
-void jm_box_test_path(int path);
 /* Bytes of the work buffer jm_sph_boxes takes (a block scratch's, block.c;
  * suitably aligned for floats). */
 size_t jm_box_work_bytes(void);

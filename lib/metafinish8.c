@@ -10,7 +10,7 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 
-int jm_finish8_ok(void) { return jm_finish_width() >= 8 && jm_cpu_avx2(); }
+int jm_finish8_ok(void) { return jm_cpu_avx2(); }
 
 #define AVX2 __attribute__((target("avx2")))
 

@@ -118,7 +118,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->simplify_error = p.simplify_error * r;
     c->unit_in = 1.0f; /* mesh.c sets the unit (units.h) */
     if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);
-    c->cull = p.field == JM_FIELD_SPH && !p.no_culling;
+    c->cull = p.field == JM_FIELD_SPH && !p.reserved0; /* reserved0: jm_testing_no_culling */
     for (int k = 0; k < 3; k++) {
         c->sel_box |= p.particle_aabb_min[k] != 0.0f || p.particle_aabb_max[k] != 0.0f;
         c->clip |= p.mesh_aabb_min[k] != 0.0f || p.mesh_aabb_max[k] != 0.0f;
