@@ -218,7 +218,7 @@ __attribute__((target("avx2"))) INLINE void an_rows_avx2(AN_ROWS_ARGS)
  * computed as in AN_FULL, and none past the run is); AN_PART the partial
  * sums: the same slabs, rows and row terms, on the rows that cut the inner
  * ellipsoid q < 2 JM_AN_PART_REACH only its chord there, which lies within
- * the full chord (aniso_cull.c, 3). */
+ * the full chord (docs/culling.md, A.3). */
 INLINE void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn, const int mode, an_rows_fn rows_fn)
 {
     const int ns = JM_PAD(n);

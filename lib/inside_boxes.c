@@ -83,7 +83,7 @@ typedef struct {
     float E2, te[3];
     float lo[3], hi[3];            /* particles outside add to no row */
     float Rp, Rp2, inv3h;
-    float M, Gt;                   /* |a - b (s + E2)| and |b v_a| for any term (cull.c, 3b) */
+    float M, Gt;                   /* |a - b (s + E2)| and |b v_a| for any term (docs/culling.md, 3b) */
 } box_setup;
 
 static void setup(const jm_config *c, const float *x, const float *y, const float *z, int n, box_setup *b)
@@ -145,7 +145,7 @@ typedef struct {
 size_t jm_box_work_bytes(void) { return sizeof(box_acc); }
 
 /* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
- * its rounding (cull.c, 3b); along x node i in boxes (i - 1) / 2 and i / 2
+ * its rounding (docs/culling.md, 3b); along x node i in boxes (i - 1) / 2 and i / 2
  * (clipped to [0, nb)), along y and z in row i / 3 alone. */
 JM_CLONES_512 /* the same operations per lane either way */
 static void spread(box_acc *A, const box_setup *b, int n, float *out)
@@ -232,7 +232,7 @@ static void boxes_c(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
 #include <immintrin.h>
 /* The same terms 16 box centres at a time, the lines picked by a permute
  * from the 32 bins, fused multiply-adds (the bound holds for one rounding
- * or two, cull.c 3b). */
+ * or two, docs/culling.md, 3b). */
 #define PREP_AVX512                                                                                        \
     const __m512 vw = _mm512_set1_ps(w), vE2 = _mm512_set1_ps(b.E2);                                   \
     const __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(b.xc), _mm512_set1_ps(q[0]));                      \
@@ -262,7 +262,7 @@ __attribute__((target("avx512f"))) static void boxes_avx512(const jm_grid *g, co
 /* The same terms in two halves of 8 lanes (AVX2 with FMA, AMD Zen 2 and
  * the like): the line of each lane's bin picked from the 32 bins by four
  * permutes of 8 and two blends on the bin's bits 3 and 4 (the sign bit of
- * the bin shifted left by 28 and 27); gathers were slower. */
+ * the bin shifted left by 28 and 27), cheaper than gathers. */
 __attribute__((target("avx2,fma"))) static inline __m256 lut32_avx2(const __m256 t[4], __m256i k, __m256 m3, __m256 m4)
 {
     const __m256 lo = _mm256_blendv_ps(_mm256_permutevar8x32_ps(t[0], k), _mm256_permutevar8x32_ps(t[1], k), m3);

@@ -26,8 +26,7 @@
  * A vertex's sums depend only on its bucket's gathered particles, and the
  * buckets only on the vertex positions: the same bits for any thread count.
  * Finer buckets (edge h) gather fewer particles a vertex but gather four
- * times as often: the whole conversion of that frame took 6 % more
- * instructions.
+ * times as often, which costs more in all.
  */
 
 typedef struct {

@@ -19,8 +19,7 @@
  * vertices sorted into parts of PART^3 cubes, each piece (both half-necks
  * of a link at once) visits the parts its box reaches and evaluates their
  * vertices four (AVX2: eight) at a time, keeping the largest value at each
- * (about 5 % of the jet frame's instructions, against 45 % for checking
- * the vertices one by one). Where that value is off the threshold by more
+ * (about a ninth of the work of checking the vertices one by one). Where that value is off the threshold by more
  * than c->mv_check the vertex is settled again on every piece near it
  * (jm_meta_settle: about 1.2 % of the jet's vertices), so every vertex
  * ends within that of the exact surface. */
@@ -370,10 +369,9 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
                   size_t nv)
 {
     if (!nv) return 1;
-    /* parts of 4 cubes a side, 2 where the block is crowded (bulk fluid's
-     * tunnels: on the jet about 200 vertices a block, none past 700, on
-     * blocks of 3000 and 24,389 particles about 600 and 1500: 2 cubes
-     * took 11 % fewer instructions there, 4 % more on the jet) */
+    /* parts of 4 cubes a side, 2 where the block is crowded (the tunnels
+     * of bulk fluid, JM_PROBE_CROWDED vertices or more; a jet's blocks hold
+     * a few hundred): smaller parts visit fewer vertices there */
     pr->pc = nv >= JM_PROBE_CROWDED ? 2 : 4;
     const int np = jm_probe_parts(B, pr->pc);
     const size_t parts = (size_t)np * np * np, sn = (size_t)B + 1, ns = nv < 8 ? 8 : nv;

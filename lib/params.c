@@ -73,8 +73,8 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
         c->influence = reach + c->margin;
         c->cell = c->link > c->influence ? c->link : c->influence;
     }
-    /* blocks three (SPH) or four (metasphere) influence radii wide: measured
-     * best (bigger blocks waste nodes on thin jets and sample more per block
+    /* blocks three (SPH) or four (metasphere) influence radii wide (bigger
+     * blocks waste nodes on thin jets and sample more per block
      * than the dense SPH splat likes; smaller ones repeat the per-block work
      * and the stitching) */
     {

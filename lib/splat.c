@@ -128,7 +128,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
  * (dyz2 < Rp^2), there on the window of nodes [ic - K, ic + K] around its
  * own, ic = floor(cx + 1/2), clipped to [i0, i1) (ROWP adds +0 to the other
  * lanes of its steps). Any subset of (particle, node) pairs gives a lower
- * bound (cull.c): the reach and the window are speed only. t[4] = wgt a1,
+ * bound (docs/culling.md, 3): the reach and the window are speed only. t[4] = wgt a1,
  * wgt b1 / sph_h^2, wgt a2, wgt b2 / sph_h^2, for s in world units. */
 #define PARTIAL_BODY(ROWP, PREP)                                                                               \
     const int ns = JM_PAD(n);                                                                              \
@@ -355,7 +355,7 @@ __attribute__((target("avx2"))) INLINE void rowp2_avx2(float *row, int two, __m2
  * nodes (PARTIAL_BODY), so one masked step covers it (masked loads: a window
  * may end within 16 lanes of its row's end), and its mask and (xp - qx)^2
  * are the same on every row of a particle: computed once per particle
- * (PREP_AVX512). Fused multiply-adds: the bound in cull.c holds for one
+ * (PREP_AVX512). Fused multiply-adds: the bound of docs/culling.md, 3, holds for one
  * rounding or two. */
 #define PREP_AVX512                                                                                        \
     const __mmask16 pm = (__mmask16)((1u << (b - a)) - 1u);                                                \
