@@ -1,14 +1,23 @@
 /* cpu.c - the one CPU dispatch: probes the vector extensions once; tests may force a lower level. */
 #include "cpu.h"
 #include "jetmesh_testing.h"
-#include <pthread.h>
 #include <stdatomic.h>
 
 static int probed = JM_CPU_PLAIN;
-static pthread_once_t once = PTHREAD_ONCE_INIT;
 static _Atomic int forced = -1;
+_Atomic int jm_cpu_now = JM_CPU_PLAIN;
 
-static void probe(void)
+/* the level from the probe and the forced one, published for jm_cpu_level */
+static int publish(void)
+{
+    const int f = atomic_load(&forced);
+    const int l = f >= 0 && f < probed ? f : probed;
+    atomic_store(&jm_cpu_now, l);
+    return l;
+}
+
+/* at load, before any kernel runs (a constructor: jm_cpu_level is one load) */
+__attribute__((constructor)) static void probe(void)
 {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     __builtin_cpu_init();
@@ -18,13 +27,7 @@ static void probe(void)
         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512cd"))
         probed = JM_CPU_AVX512;
 #endif
-}
-
-int jm_cpu_level(void)
-{
-    pthread_once(&once, probe);
-    const int f = atomic_load_explicit(&forced, memory_order_relaxed);
-    return f >= 0 && f < probed ? f : probed;
+    publish();
 }
 
 int jm_cpu_forced(void) { return atomic_load_explicit(&forced, memory_order_relaxed) >= 0; }
@@ -32,7 +35,7 @@ int jm_cpu_forced(void) { return atomic_load_explicit(&forced, memory_order_rela
 int jm_testing_force_cpu(int level)
 {
     atomic_store(&forced, level < 0 ? -1 : level);
-    return jm_cpu_level();
+    return publish();
 }
 
 const char *jm_testing_cpu_name(void)

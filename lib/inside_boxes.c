@@ -147,8 +147,7 @@ size_t jm_box_work_bytes(void) { return sizeof(box_acc); }
 /* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
  * its rounding (docs/culling.md, 3b); along x node i in boxes (i - 1) / 2 and i / 2
  * (clipped to [0, nb)), along y and z in row i / 3 alone. */
-JM_CLONES_512 /* the same operations per lane either way */
-static void spread(box_acc *A, const box_setup *b, int n, float *out)
+JM_BODY void spread_body(box_acc *A, const box_setup *b, int n, float *out)
 {
     const int nb = b->nb, nr = b->nr, ns = JM_PAD(n);
     const double u = 0x1p-24, te = (double)b->te[0] + b->te[1] + b->te[2];
@@ -174,6 +173,7 @@ static void spread(box_acc *A, const box_setup *b, int n, float *out)
     for (int k = 0; k < n; k++)
         for (int j = 0; j < n; j++) memcpy(out + ((size_t)k * n + j) * ns, X[k / 3][j / 3], (size_t)n * sizeof *out);
 }
+JM_KERNEL_512(static, void, spread, spread_body, (box_acc *A, const box_setup *b, int n, float *out), (A, b, n, out))
 
 /* Every particle of the hood (not isolated, within the setup's box): PREP
  * once, then ROW(L, G0, G1, G2, vy, vz, dyz2) on each row of box centres
