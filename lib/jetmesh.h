@@ -26,7 +26,13 @@
  * pool of worker threads and scratch memory reused from frame to frame.
  *
  * Determinism: the same particles (in the same order) and parameters give
- * bit-identical meshes, whatever the thread count.
+ * bit-identical meshes, whatever the thread count and the CPU's vector
+ * extensions.
+ *
+ * This header is the stable API. Hooks for tests and measurement (forcing
+ * a CPU path, sampling without culling) are in jetmesh_testing.h, outside
+ * it; deprecated fields are marked DEPRECATED with the release that
+ * removes them.
  *
  * ----------------------------------------------------------------------
  * Fields (all lengths below in world units; r = params.radius)
@@ -442,12 +448,12 @@ typedef struct jm_params {
                                  (twice) and then the mesh left unsimplified.
                                  Sphere templates of isolated particles are
                                  simplified too, never smoothed. 0 = off */
-    /* ---- deprecated: kept for the ABI, removed in 0.4.0 */
-    int exact_surface;      /**< DEPRECATED (removed in 0.4.0): does
-                                 nothing; metasphere vertices are always
-                                 checked against every piece (see Vertex
-                                 placement) */
-    int reserved0;          /**< reserved: leave 0 */
+    /* ---- deprecated: kept until 0.4.0, which removes them */
+    int exact_surface;      /**< DEPRECATED, does nothing: metasphere
+                                 vertices are always checked against every
+                                 piece (see Vertex placement) */
+    /* ---- reserved (the slot of a test hook, jetmesh_testing.h) */
+    int reserved0;          /**< leave 0 */
     /* ---- what is meshed and kept (all off by default; see "Selection and
      * clipping" below). Boxes in world units, bounds included; a box is
      * off while all six of its numbers are 0, else each must be finite and
