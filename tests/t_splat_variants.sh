@@ -36,6 +36,13 @@ same() {
   echo "$1: identical"
 }
 mesh best "$J"
+# the CLI hands JETMESH_TESTING_CPU to the library (jm_testing_force_cpu):
+# bench reports the level that ran
+for l in 0 1; do
+  want=$(printf 'plain C\nSSE2' | sed -n "$((l + 1))p")
+  JETMESH_TESTING_CPU=$l "$J" bench jet --repeat 1 --min-time 0 -j 1 -q --json | grep -q "\"cpu_detail\": *\"$want" ||
+    { echo "FAIL: JETMESH_TESTING_CPU=$l did not run the $want kernels"; exit 1; }
+done
 # the hand-written kernels, one level at a time (a level above the CPU's runs the CPU's)
 for l in 0 1 2 3; do
   mesh "level$l" env JETMESH_TESTING_CPU=$l "$J"
