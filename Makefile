@@ -172,6 +172,6 @@ install: all
 	    share/jetmesh.pc.in > $(DESTDIR)$(PREFIX)/lib/pkgconfig/jetmesh.pc
 
 clean:
-	rm -rf $(BUILD) build-asan build-tsan build-splat1 build-splat2 build-splat3
+	rm -rf $(BUILD) build-asan build-tsan build-noclones
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

@@ -1,8 +1,10 @@
 /* main.c - the jetmesh command: dispatches to convert, generate, bench and help. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "../lib/jetmesh.h"
+#include "../lib/jetmesh_testing.h"
 #include "bench/bench.h"
 #include "blender_script.h"
 #include "convert.h"
@@ -88,5 +90,9 @@ static int run_command(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    /* tests only (tests/t_splat_variants.sh): the library's vector level,
+     * 0 plain C to 3 AVX-512 (jetmesh_testing.h) */
+    const char *cpu = getenv("JETMESH_TESTING_CPU");
+    if (cpu && *cpu) jm_testing_force_cpu(atoi(cpu));
     return stdout_finish(run_command(argc, argv));
 }

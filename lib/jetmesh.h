@@ -26,7 +26,13 @@
  * pool of worker threads and scratch memory reused from frame to frame.
  *
  * Determinism: the same particles (in the same order) and parameters give
- * bit-identical meshes, whatever the thread count.
+ * bit-identical meshes, whatever the thread count and the CPU's vector
+ * extensions.
+ *
+ * This header is the stable API. Hooks for tests and measurement (forcing
+ * a CPU path, sampling without culling) are in jetmesh_testing.h, outside
+ * it; deprecated fields are marked DEPRECATED with the release that
+ * removes them.
  *
  * ----------------------------------------------------------------------
  * Fields (all lengths below in world units; r = params.radius)
@@ -106,12 +112,17 @@
  * the isotropic mesh's (tests/test_aniso_pockets.c).
  * The sampled band reaches as far as the frame's widest kernel (its box
  * around cbar), so culling stays exact and the mesh closed; normals are the
- * gradient of this field. Blocks are culled as for the isotropic field
- * (no_culling), each kernel bounded over a block by its smallest axis and
- * its box, and inside the fluid nodes proven above the threshold a box of
- * 3 x 3 x 3 at a time (each kernel's tangent in q^2). Cost: about 2 times
- * the isotropic field's instructions (1.98 on the 100k block, one thread,
- * the AVX2 paths), and 56 more bytes per particle.
+ * gradient of this field. Blocks and nodes are culled as for the
+ * isotropic field (see Culling). It costs about twice the isotropic
+ * field's time and 56 more bytes per particle.
+ *
+ * Culling (SPH, both kernels): a block where an upper bound of the field
+ * (each kernel at its nearest distance to the block) stays below the
+ * threshold is not sampled, and in blocks inside the fluid nodes whose
+ * lower bounds (the nearer particles' kernels) exceed it are not sampled
+ * unless next to a node that may be outside. Both bounds carry the float
+ * rounding slack, so no cube holding a crossing loses a sample and the mesh
+ * is the bytes that sampling every node gives (the proof: docs/culling.md).
  *
  * ----------------------------------------------------------------------
  * Extraction: a global lattice of cubes of edge params.cube_size * r, with
@@ -437,23 +448,12 @@ typedef struct jm_params {
                                  (twice) and then the mesh left unsimplified.
                                  Sphere templates of isolated particles are
                                  simplified too, never smoothed. 0 = off */
-    int exact_surface;      /**< accepted and ignored: metasphere vertices
-                                 are always checked against every piece now
-                                 (see Vertex placement); kept for callers
-                                 that set it */
-    int no_culling;         /**< sph: 1 samples every node of every block
-                                 (for tests and measurement: the mesh is the
-                                 same bytes). By default a block where an
-                                 upper bound of the field (each particle's
-                                 kernel at its nearest distance to the block,
-                                 with float rounding slack) stays below the
-                                 threshold is skipped, and in blocks a
-                                 third full of fluid or more nodes whose
-                                 partial sums (lower bounds from the nearer
-                                 particles' kernels) exceed it, with float
-                                 rounding slack, are not sampled unless next
-                                 to a node that may be outside: no cube
-                                 holding a crossing loses a sample */
+    /* ---- deprecated: kept until 0.4.0, which removes them */
+    int exact_surface;      /**< DEPRECATED, does nothing: metasphere
+                                 vertices are always checked against every
+                                 piece (see Vertex placement) */
+    /* ---- reserved (the slot of a test hook, jetmesh_testing.h) */
+    int reserved0;          /**< leave 0 */
     /* ---- what is meshed and kept (all off by default; see "Selection and
      * clipping" below). Boxes in world units, bounds included; a box is
      * off while all six of its numbers are 0, else each must be finite and

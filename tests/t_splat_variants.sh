@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_splat_variants.sh - the AVX-512, AVX2, SSE2 and plain C field kernels (SPH, anisotropic SPH, metasphere, the interior proofs), the smoothing's and the interpolated attributes' AVX2 and plain C paths, give byte-identical meshes.
+# t_splat_variants.sh - every vector level of the one CPU dispatch (plain C, SSE2, AVX2, AVX-512: the field kernels, the interior proofs, the metasphere's probe, normals and finish, the interpolated attributes) and the build without the compiler's clones give byte-identical meshes.
 set -e
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root"
@@ -8,46 +8,50 @@ B=${JETMESH_BUILD:-$root/build}
 [ -f "$B/libjetmesh_formats.a" ] || { echo "FAIL: build first (make all)"; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 in=samples/real/double_dam_break_frame_26_4732_particles.vtk
-"$J" convert "$in" -r 0.025 --field sph --method mc -o "$tmp/auto.obj" -q
-"$J" convert samples/jet/jet_099.csv -r 0.025 -o "$tmp/meta.obj" -q
-"$J" convert "$in" -r 0.025 --field sph --anisotropic --method mc -o "$tmp/aniso.obj" -q
-# smoothing: binary PLY (every bit of every float)
-smooth="--field sph --method mc --smooth 25 --smooth-normals 10"
-"$J" convert "$in" -r 0.025 $smooth -o "$tmp/smooth.ply" -q
 # a lattice block: full blocks, whose nodes the box pass proves inside
-# (inside_boxes.c: AVX-512 against plain C)
 "$J" generate block 40000 -q -o "$tmp/block.xyz"
 bargs="-r 0.025 --field sph --smoothing-length 2 --threshold 0.6 --method mc"
-"$J" convert "$tmp/block.xyz" $bargs -o "$tmp/block.ply" -q
-# velocities on the vertices (interpolate.c: the AVX2 sums against plain C)
-"$J" convert "$in" -r 0.025 --field sph --method mc --attributes velocity -o "$tmp/attrs.ply" -q
-for v in 1 2 3; do
-  # variant 3 (plain C) also builds the smoothing's plain code only
-  extra=; [ "$v" = 3 ] && extra=-DJM_SMOOTH_PLAIN
-  # only lib/ differs between the variants: the library is built with the
-  # variant's flags and linked with the main build's CLI and formats
-  make --no-print-directory -j2 BUILD="build-splat$v" CFLAGS="-DJM_SPLAT_VARIANT=$v $extra" "build-splat$v/libjetmesh.a" >/dev/null
-  ${CC:-cc} -o "build-splat$v/jetmesh" $(find "$B/cli" -name '*.o' | sort) "$B/libjetmesh_formats.a" \
-    "build-splat$v/libjetmesh.a" $(make --no-print-directory -s print-libs)
-  "build-splat$v/jetmesh" convert "$in" -r 0.025 --field sph --method mc -o "$tmp/v$v.obj" -q
-  if cmp -s "$tmp/auto.obj" "$tmp/v$v.obj"; then
-    echo "variant $v: identical ($(grep -c '^f ' "$tmp/v$v.obj") triangles)"
-  else
-    echo "variant $v differs from the CPU's default kernel"; exit 1
-  fi
-  "build-splat$v/jetmesh" convert samples/jet/jet_099.csv -r 0.025 -o "$tmp/meta$v.obj" -q
-  cmp -s "$tmp/meta.obj" "$tmp/meta$v.obj" || { echo "variant $v: the metasphere runs differ"; exit 1; }
-  echo "variant $v: metasphere identical"
-  "build-splat$v/jetmesh" convert "$in" -r 0.025 --field sph --anisotropic --method mc -o "$tmp/aniso$v.obj" -q
-  cmp -s "$tmp/aniso.obj" "$tmp/aniso$v.obj" || { echo "variant $v: the anisotropic runs differ"; exit 1; }
-  echo "variant $v: anisotropic identical"
-  "build-splat$v/jetmesh" convert "$in" -r 0.025 $smooth -o "$tmp/smooth$v.ply" -q
-  cmp -s "$tmp/smooth.ply" "$tmp/smooth$v.ply" || { echo "variant $v: the smoothed runs differ"; exit 1; }
-  echo "variant $v: smoothed identical"
-  "build-splat$v/jetmesh" convert "$tmp/block.xyz" $bargs -o "$tmp/block$v.ply" -q
-  cmp -s "$tmp/block.ply" "$tmp/block$v.ply" || { echo "variant $v: the lattice block's runs differ"; exit 1; }
-  echo "variant $v: lattice block identical"
-  "build-splat$v/jetmesh" convert "$in" -r 0.025 --field sph --method mc --attributes velocity -o "$tmp/attrs$v.ply" -q
-  cmp -s "$tmp/attrs.ply" "$tmp/attrs$v.ply" || { echo "variant $v: the interpolated velocities differ"; exit 1; }
-  echo "variant $v: interpolated velocities identical"
+# name, input, arguments: the cases every build and level must agree on
+cases() {
+  echo "sph $in -r 0.025 --field sph --method mc"
+  echo "meta samples/jet/jet_099.csv -r 0.025"
+  echo "aniso $in -r 0.025 --field sph --anisotropic --method mc"
+  echo "smooth $in -r 0.025 --field sph --method mc --smooth 25 --smooth-normals 10"
+  echo "block $tmp/block.xyz $bargs"
+  echo "attrs $in -r 0.025 --field sph --method mc --attributes velocity"
+}
+# mesh NAME COMMAND...: every case into $tmp/NAME.CASE.ply (binary PLY: every bit of every float)
+mesh() {
+  name=$1; shift
+  cases | while read -r c f a; do
+    # shellcheck disable=SC2086
+    "$@" convert "$f" $a -o "$tmp/$name.$c.ply" -q
+  done
+}
+# same NAME: every case of NAME as the CPU's best level gave it
+same() {
+  cases | while read -r c f a; do
+    cmp -s "$tmp/best.$c.ply" "$tmp/$1.$c.ply" || { echo "FAIL: $1: the $c meshes differ"; exit 1; }
+  done
+  echo "$1: identical"
+}
+mesh best "$J"
+# the CLI hands JETMESH_TESTING_CPU to the library (jm_testing_force_cpu):
+# bench reports the level that ran
+for l in 0 1; do
+  want=$(printf 'plain C\nSSE2' | sed -n "$((l + 1))p")
+  JETMESH_TESTING_CPU=$l "$J" bench jet --repeat 1 --min-time 0 -j 1 -q --json | grep -q "\"cpu_detail\": *\"$want" ||
+    { echo "FAIL: JETMESH_TESTING_CPU=$l did not run the $want kernels"; exit 1; }
 done
+# the hand-written kernels, one level at a time (a level above the CPU's runs the CPU's)
+for l in 0 1 2 3; do
+  mesh "level$l" env JETMESH_TESTING_CPU=$l "$J"
+  same "level$l"
+done
+# the compiler's clones (target_clones, chosen by the loader): the library
+# built without them, linked with the main build's CLI and formats
+make --no-print-directory -j2 BUILD=build-noclones CFLAGS=-DJM_NO_CLONES build-noclones/libjetmesh.a >/dev/null
+${CC:-cc} -o build-noclones/jetmesh $(find "$B/cli" -name '*.o' | sort) "$B/libjetmesh_formats.a" \
+  build-noclones/libjetmesh.a $(make --no-print-directory -s print-libs)
+mesh noclones build-noclones/jetmesh
+same noclones

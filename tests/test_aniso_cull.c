@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lib/jetmesh_testing.h"
 #include "../lib/jetmesh.h"
 #include "../lib/field/aniso/aniso_boxes.h"
 #include "../lib/field/aniso/aniso_splat.h"
@@ -135,7 +136,8 @@ static void box_bounds_case(float cube, int path, int sheet)
     const int64_t sheet_at[][3] = {{60, 60, -10}, {61, 62, -12}, {-10, 60, -8}};
     const int64_t(*origins)[3] = sheet ? sheet_at : lattice;
     const size_t blocks = sheet ? 3 : 7, inner_blocks = sheet ? 0 : 3;
-    jm_box_test_path(path);
+    /* the box path of each level (inside_boxes.c) */
+    jm_testing_force_cpu(path == JM_BOX_C ? JM_TESTING_CPU_PLAIN : path == JM_BOX_AVX2 ? JM_TESTING_CPU_AVX2 : JM_TESTING_CPU_AVX512);
     assert_int_equal(jm_box_path(), path);
     jm_an_cand cand = {NULL, 0, 0, NULL};
     for (size_t b = 0; b < blocks; b++) {
@@ -177,7 +179,7 @@ static void box_bounds_case(float cube, int path, int sheet)
         if (sheet && b < 2 && proven == 0) fail_msg("sheet block %zu: nothing proven (the test proves nothing)", b);
         free(hood.range);
     }
-    jm_box_test_path(-1);
+    jm_testing_force_cpu(-1);
     free(cand.idx);
     free(work);
     free(pad);

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../lib/jetmesh_testing.h"
 #include "../lib/jetmesh.h"
 #include "../lib/field/sph/cull.h"
 #include "../lib/field/sph/inside_boxes.h"
@@ -143,7 +144,8 @@ static void box_bounds_case(float cube, int path)
     const int64_t origins[][3] = {{48, 48, 48}, {49, 50, 48}, {62, 63, 64}, {140, 64, 64}, {140, 140, 140},
                                   {-16, 60, 70}, {60, -16, 70}, {60, 70, -16}, {61, 71, -15}};
     const int inner_blocks = 3;
-    jm_box_test_path(path);
+    /* the box path of each level (inside_boxes.c) */
+    jm_testing_force_cpu(path == JM_BOX_C ? JM_TESTING_CPU_PLAIN : path == JM_BOX_AVX2 ? JM_TESTING_CPU_AVX2 : JM_TESTING_CPU_AVX512);
     assert_int_equal(jm_box_path(), path);
     for (size_t b = 0; b < sizeof origins / sizeof origins[0]; b++) {
         /* the origins are for cubes of r / 2: the same places at other sizes */
@@ -183,7 +185,7 @@ static void box_bounds_case(float cube, int path)
             fail_msg("block %zu inside the lattice: only %zu of %zu nodes proven", b, proven, all);
         free(hood.range);
     }
-    jm_box_test_path(-1);
+    jm_testing_force_cpu(-1);
     free(work);
     free(pad);
     free(bound);

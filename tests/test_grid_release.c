@@ -11,6 +11,7 @@
 #include "../lib/jetmesh.h"
 #include "../lib/core/internal.h"
 #include "../lib/grid/grid.h"
+#include "../lib/jetmesh_testing.h"
 
 /* A column of fluid, W x W x H particles on a jittered lattice of spacing
  * 2r (r = 0.025), long in z so that the block sweep, which runs in z,
@@ -148,11 +149,11 @@ static void check_same(const jm_params *p, int far)
     size_t n;
     float *xyz = column(&n, far);
     const size_t page = (size_t)sysconf(_SC_PAGESIZE);
-    jm_grid_test_mode(0, 0, 0);
+    jm_testing_grid_mode(0, 0, 0);
     copy ref = mesh_with(p, xyz, n);
-    jm_grid_test_mode(1, 2, page);
+    jm_testing_grid_mode(1, 2, page);
     copy got = mesh_with(p, xyz, n);
-    jm_grid_test_mode(1, 1, 0);
+    jm_testing_grid_mode(1, 1, 0);
     copy dflt = mesh_with(p, xyz, n);
     assert_true(ref.nt > 20000);
     assert_int_equal(ref.isolated, DROPS + (size_t)far);
@@ -208,11 +209,11 @@ static void test_lower_peak(void **state)
     const size_t page = (size_t)sysconf(_SC_PAGESIZE);
     jm_params p = sph(JM_METHOD_MC, 1);
     p.keep_cavities = 1;
-    jm_grid_test_mode(1, 0, page);
+    jm_testing_grid_mode(1, 0, page);
     copy kept = mesh_with(&p, xyz, n);
-    jm_grid_test_mode(1, 1, page);
+    jm_testing_grid_mode(1, 1, page);
     copy given = mesh_with(&p, xyz, n);
-    jm_grid_test_mode(1, 1, 0);
+    jm_testing_grid_mode(1, 1, 0);
     same(&kept, &given);
     assert_true(given.peak + 17 * n / 2 < kept.peak);
     drop(&kept);

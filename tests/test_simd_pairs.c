@@ -13,6 +13,7 @@
 #include "../lib/field/aniso/aniso_moments.h"
 #include "../lib/field/aniso/aniso_normals.h"
 #include "../lib/core/cpu.h"
+#include "../lib/jetmesh_testing.h"
 #include "../lib/field/meta/metafinish16.h"
 #include "../lib/field/meta/metafinish.h"
 #include "../lib/core/sym3.h"
@@ -191,12 +192,12 @@ static void test_finish_kernel_bits(void **state)
         const uint32_t *tri = idx + 3 * drop;
         memcpy(p1, pos, sizeof pos), memcpy(n1, nrm, sizeof nrm);
         const int compensate = round % 4 != 3, facing = round % 4 != 2;
-        jm_finish_set_width(1);
+        jm_testing_force_cpu(JM_TESTING_CPU_SSE2); /* the one-at-a-time code */
         assert_int_equal(jm_meta_finish(NULL, NULL, p1, n1, NV, tri, n, compensate, facing, 0.03f), 1);
         /* the AVX2 kernels, then the AVX-512 ones (each where the CPU has
          * them; else the one-at-a-time code again) */
         for (int lanes = 8; lanes <= 16; lanes *= 2) {
-            jm_finish_set_width(lanes);
+            jm_testing_force_cpu(lanes == 8 ? JM_TESTING_CPU_AVX2 : JM_TESTING_CPU_AVX512);
             memcpy(p2, pos, sizeof pos), memcpy(n2, nrm, sizeof nrm);
             assert_int_equal(jm_meta_finish(NULL, NULL, p2, n2, NV, tri, n, compensate, facing, 0.03f), 1);
             if (memcmp(p1, p2, sizeof p1) || memcmp(n1, n2, sizeof n1))
@@ -208,6 +209,7 @@ static void test_finish_kernel_bits(void **state)
         for (size_t k = 0; k < 3 * NV; k++) moved += p1[k] != pos[k] || n1[k] != nrm[k];
         folds_seen += moved > 0;
     }
+    jm_testing_force_cpu(-1);
     if (folds_seen < 30) fail_msg("the finish changed too few meshes (%zu of 40): the test would prove little", folds_seen);
 }
 

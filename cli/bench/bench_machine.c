@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "../platform.h"
+#include "../../lib/jetmesh_testing.h"
 
 void bench_machine_info(bench_machine *m)
 {
@@ -40,13 +41,8 @@ void bench_machine_info(bench_machine *m)
         }
         fclose(f);
     }
-    const char *isa = "";
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    __builtin_cpu_init();
-    isa = __builtin_cpu_supports("avx512f")                                        ? "AVX-512"
-          : __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? "AVX2 and FMA, no AVX-512"
-                                                                             : "SSE2";
-#endif
+    /* the vector level the library's kernels run (its one CPU probe) */
+    const char *isa = jm_testing_cpu_name();
     if (family >= 0 && model >= 0)
         snprintf(m->detail, sizeof m->detail, "%s%sfamily %d model %d", isa, *isa ? ", " : "", family, model);
     else

@@ -12,10 +12,8 @@
 /* Arrays this large are often given back to the system between frames
  * (malloc maps large blocks afresh and unmaps them on free, and trims its
  * heap's top), so a frame touches their pages anew. In 4 KiB pages each
- * first touch is a fault, about 12 us apiece on the virtual machines we
- * measure on (an 8M-particle frame took 40,000 of them, half a second);
- * advised huge, the kernel maps 2 MiB at a fault, about 50 times less per
- * byte. */
+ * first touch is a fault (tens of thousands on an 8M-particle frame);
+ * advised huge, the kernel maps 2 MiB at a fault, far less work per byte. */
 #define HUGE_MIN ((size_t)4 << 20)
 #define HUGE_PAGE ((uintptr_t)2 << 20)
 

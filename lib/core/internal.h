@@ -141,17 +141,7 @@ static inline float jm_cubic_dw(float q) /* d/dq of jm_cubic_w */
     b = b > 0.0f ? b : 0.0f;
     return -0.75f * a * a + 3.0f * b * b;
 }
-/* Loops built for several machines and for any x86-64, chosen at load time
- * (GCC's target_clones; not with JM_NO_CLONES: ThreadSanitizer cannot run
- * their ifunc resolvers). No FMA contraction (-std=c11 implies
- * -ffp-contract=off), so every clone gives the same bits. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_CLONES_AVX2 __attribute__((target_clones("avx2", "default")))
-#define JM_CLONES_V4 __attribute__((target_clones("arch=x86-64-v4", "avx2", "default")))
-#else
-#define JM_CLONES_AVX2
-#define JM_CLONES_V4
-#endif
+#include "core/cpu.h" /* the CPU dispatch: jm_cpu_level, JM_KERNEL_*, JM_CLONES_AVX2 */
 /* The outward unit normal from a field gradient summed in 8 lanes (gx[l],
  * gy[l], gz[l]): minus their sum in lane order, normalised; 0 if it
  * vanishes or is not finite (nrm untouched). */

@@ -73,8 +73,8 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
         c->influence = reach + c->margin;
         c->cell = c->link > c->influence ? c->link : c->influence;
     }
-    /* blocks three (SPH) or four (metasphere) influence radii wide: measured
-     * best (bigger blocks waste nodes on thin jets and sample more per block
+    /* blocks three (SPH) or four (metasphere) influence radii wide (bigger
+     * blocks waste nodes on thin jets and sample more per block
      * than the dense SPH splat likes; smaller ones repeat the per-block work
      * and the stitching) */
     {
@@ -118,7 +118,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     c->simplify_error = p.simplify_error * r;
     c->unit_in = 1.0f; /* mesh.c sets the unit (units.h) */
     if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);
-    c->cull = p.field == JM_FIELD_SPH && !p.no_culling;
+    c->cull = p.field == JM_FIELD_SPH && !p.reserved0; /* reserved0: jm_testing_no_culling */
     for (int k = 0; k < 3; k++) {
         c->sel_box |= p.particle_aabb_min[k] != 0.0f || p.particle_aabb_max[k] != 0.0f;
         c->clip |= p.mesh_aabb_min[k] != 0.0f || p.mesh_aabb_max[k] != 0.0f;

@@ -55,7 +55,7 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
 
 /* out[a] = x_a / d for a < 3, as three divisions would give them: one
  * vector division where SSE2 is (the divider is the pieces' bottleneck) */
-#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
+#ifdef __SSE2__
 #include <emmintrin.h>
 static inline void div3(float x0, float x1, float x2, float d, float out[3])
 {

@@ -15,7 +15,7 @@
  * one pass over the particles plus a bounded number of neighbour scans.
  *
  * The scans are bounded in all (issue 30: a million copies of one point
- * took 10 s before the meshing refused them): the candidates of every
+ * must be refused at once, not scanned for seconds): the candidates of every
  * sample, the particles of its 27 cells, are counted first; within
  * JM_CHOICE_MAX_CHECKS in all (real frames need well under a million:
  * bulk fluid at 2r has about 100 a sample) every candidate is checked, as

@@ -45,7 +45,7 @@ __attribute__((target("avx2"))) static void dens_avx2(const float *xs, const flo
 /* the 8 lanes in one AVX2 or AVX-512 register where the CPU has them: the
  * same operations per lane in the same order (no FMA: ISO C mode keeps
  * -ffp-contract=off), so the same bits on every machine */
-__attribute__((target_clones("avx512f", "avx2", "default")))
+JM_CLONES_512_AVX2
 #endif
 static void sph_cell(void *arg, size_t ci, int worker)
 {

@@ -2,6 +2,7 @@
 #ifndef JETMESH_GRID_H
 #define JETMESH_GRID_H
 #include "core/internal.h"
+#include "jetmesh_testing.h" /* jm_testing_grid_mode, defined in grid/release.c */
 
 /* Builds g from the particles (validating them). */
 jm_status jm_grid_build(jm_grid *g, jm_mem *mem, jm_pool *pool, const jm_config *c,
@@ -15,13 +16,6 @@ void jm_grid_drop_coords(jm_grid *g, jm_mem *mem);
  * order of their cells' first appearance, then of the sorted order: the
  * same particles in the same order whichever way the cells are numbered. */
 int jm_grid_isolated(const jm_grid *g, jm_mem *mem, uint32_t *out); /* 0: out of memory */
-/* Tests only (tests/test_grid_release.c): key_order 0 numbers an SPH grid's
- * cells by first appearance (no release possible); release 0 turns release
- * off, 2 makes released pages unreadable (a read faults) until the grid is
- * freed; page, a power of two and a multiple of the system's page, is the
- * unit released (0: 2 MiB). Defaults: 1, 1, 0. Not thread-safe against
- * frames in flight: set it between frames. */
-void jm_grid_test_mode(int key_order, int release, size_t page);
 /* Cell index of absolute cell coordinates, or UINT32_MAX if empty/out of range. */
 static inline uint32_t jm_grid_cell(const jm_grid *g, int64_t x, int64_t y, int64_t z)
 {

@@ -7,7 +7,7 @@
 
 static atomic_int mode_key = 1, mode_release = 1;
 static _Atomic size_t mode_page; /* 0: REL_PAGE */
-void jm_grid_test_mode(int key_order, int release, size_t page)
+void jm_testing_grid_mode(int key_order, int release, size_t page)
 {
     atomic_store(&mode_key, key_order != 0);
     atomic_store(&mode_release, release);

@@ -61,7 +61,7 @@ static inline __attribute__((always_inline)) v4d terms4(const vol_job *j, size_t
 }
 
 /* chunk k's runs into out (room for cap; the count is returned either way) */
-JM_CLONES_AVX2 static size_t chunk_runs(const vol_job *j, size_t k, vol_run *out, size_t cap)
+JM_BODY size_t chunk_runs_body(const vol_job *j, size_t k, vol_run *out, size_t cap)
 {
     const size_t a = k * VOL_CHUNK, b = a + VOL_CHUNK < j->nt ? a + VOL_CHUNK : j->nt;
     size_t nr = 0;
@@ -83,6 +83,7 @@ JM_CLONES_AVX2 static size_t chunk_runs(const vol_job *j, size_t k, vol_run *out
     if (nr < cap) out[nr] = (vol_run){cur, acc};
     return nr + 1;
 }
+JM_KERNEL_AVX2(static, size_t, chunk_runs, chunk_runs_body, (const vol_job *j, size_t k, vol_run *out, size_t cap), (j, k, out, cap))
 
 static void vol_task(void *arg, size_t k, int worker)
 {

@@ -26,8 +26,7 @@
  * A vertex's sums depend only on its bucket's gathered particles, and the
  * buckets only on the vertex positions: the same bits for any thread count.
  * Finer buckets (edge h) gather fewer particles a vertex but gather four
- * times as often: the whole conversion of that frame took 6 % more
- * instructions.
+ * times as often, which costs more in all.
  */
 
 typedef struct {
@@ -260,7 +259,7 @@ static inline float lanes8(const float *a)
  * l of every group of 8 summed in lane l (the weight 0 out of reach), the
  * lanes then added by lanes8. Plain C, built for AVX2 machines and any
  * x86-64 (the same bits). */
-JM_CLONES_AVX2 static void sum_plain(const float *g, size_t groups, int T, const float p[3], float R2, float inv,
+JM_BODY void sum_plain_body(const float *g, size_t groups, int T, const float p[3], float R2, float inv,
                                      float *out)
 {
     const size_t stride = (size_t)(3 + T) * 8;
@@ -281,6 +280,7 @@ JM_CLONES_AVX2 static void sum_plain(const float *g, size_t groups, int T, const
     out[0] = lanes8(sw8);
     for (int c = 0; c < T; c++) out[1 + c] = lanes8(acc8 + 8 * c);
 }
+JM_KERNEL_AVX2(static, void, sum_plain, sum_plain_body, (const float *g, size_t groups, int T, const float p[3], float R2, float inv, float *out), (g, groups, T, p, R2, inv, out))
 
 #ifdef JM_CUBIC8
 /* lanes8 of a register */

@@ -5,13 +5,8 @@
 #include <string.h>
 
 /* The tasks' loops cloned for AVX2 (three-operand instructions), chosen at
- * run time: the same operations, no FMA in ISO C mode, the same bits.
- * JM_SMOOTH_PLAIN builds the plain code only (t_splat_variants.sh compares). */
-#ifndef JM_SMOOTH_PLAIN
+ * load time (cpu.h's JM_CLONES_AVX2; JM_NO_CLONES builds the plain ones). */
 #define JM_SM_CLONES JM_CLONES_AVX2
-#else
-#define JM_SM_CLONES
-#endif
 
 #define SM_CH 2048 /* vertices per task: fixed, so every sum is the same whatever the threads */
 

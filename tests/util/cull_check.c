@@ -1,5 +1,6 @@
 /* cull_check.c - culling tests' shared parts: the same mesh bytes with culling on and off, on the real frames and on a lattice block with holes. */
 #include "cull_check.h"
+#include "../../lib/jetmesh_testing.h"
 #include "shared_data.h"
 #include "test_meshes.h"
 #include <stdio.h>
@@ -12,7 +13,7 @@ static int mesh_with(const jm_params *base, int threads, int no_culling, const f
 {
     jm_params p = *base;
     p.threads = threads;
-    p.no_culling = no_culling;
+    jm_testing_no_culling(&p, no_culling);
     jm_context *ctx = NULL;
     if (jm_context_create(&p, &ctx) != JM_OK) return -1;
     jm_particles in = {xyz, count, 0, NULL};

@@ -1,48 +1,6 @@
-/* aniso_boxes.c - anisotropic SPH nodes proven inside a box of 3 x 3 x 3 nodes at a time: each kernel's tangent line in q^2 at the box's centre node.
- *
- * Why a node whose bound exceeds the returned level samples above the
- * threshold (the anisotropic twin of inside_boxes.c; u = 2^-24; the float
- * splat as aniso_cull.c, part 1):
- *
- * 1. The sample against the exact field. Let E(x) = sum_p amp_p W(q_p(x)),
- *    q_p(x)^2 = d^T M_p d, d = x - cbar_p in real arithmetic on the stored
- *    floats (x a node). aniso_cull.c, 2a, gives the splat's float q within
- *    7.4 kappa u q of q (kappa <= k_r^2), so within 15 kappa u below 2 (W
- *    has slope at most 1; past 2, W = 0 and the term is >= 0 anyway), and
- *    2b gives the float cubic within 17 u of W at that float q, every term
- *    >= 0: each term t_p >= amp_p W(q_p) - amp_p (18 + 15 kappa) u, and the
- *    float sum of m such terms is at least their sum times 1 - m u. So with
- *    S and m the sum of amp and the count of the block's kernels (the
- *    splat's filter: a superset of those at any node), the sample v(x) >=
- *    (E(x) - (18 + 15 kappa) u S)(1 - m u), and E(x) > P = thr / (1 - m u) +
- *    (18 + 15 kappa) u S proves v(x) > thr (m < 1e5, else nothing proven).
- * 2. A bound of E over a box. W(sqrt s) is convex in s >= 0 (cull.h), so
- *    each tangent line a_k - b_k s (a_k rounded down, b_k >= 0 up: still
- *    below) lies under it for every s >= 0, and so does the zero line. For a
- *    box centre x0, v = x0 - cbar, and a node x = x0 + e of the box (|e_a|
- *    <= E_a, box_extent), s(x) = s(x0) + 2 (M v).e + e^T M e <= s(x0) +
- *    2 (M v).e + K, K = sum_ab |M_ab| E_a E_b. Any line k then gives
- *    amp W(q(x)) >= amp (a_k - b_k (s(x0) + K)) - 2 amp b_k (M v).e, and
- *    over the kernels E(x) >= L - 2 sum_a E_a |G_a|, L = sum amp (a_k - b_k
- *    (s(x0) + K)), G = sum amp b_k M v: any subset of kernels and any line
- *    per kernel (the one of the float s(x0)'s bin) gives a bound.
- * 3. Its float evaluation. s(x0) from the float differences and the
- *    splat's evaluation order lies within 11 kappa u s(x0) of the exact one
- *    (aniso_cull.c, 2a); below the zero bin s < 3.875 (1 + 11 kappa u), and
- *    a term of L, |a_k| + b_k (s + K) <= ML in size, is off by at most amp u
- *    (4 ML + 43 kappa b_k) (four roundings, and b_k times the error of s). A
- *    component of M v (3 roundings on the float differences) is off by 4 u
- *    sum_b |M_ab| |v_b| <= 7 u sqrt(kappa) gmax sqrt(s) (|v| <= sqrt(s) /
- *    gmin, gmax^2 = lambda_max <= trace M), so a term of G_a, at most 2 amp
- *    GB in size (GB = max b_k times the block's largest sqrt(trace M)), is
- *    off by amp u GB (4 + 14 sqrt(kappa)). A float sum of m terms adds m u
- *    times their sizes: L within u W (ML (m + 5) + 45 kappa bmax) and each G_a
- *    within u W GB (2.01 m + 7 + 28 sqrt(kappa)), W = sum amp over the row's
- *    kernels. spread() takes 1.02 times that, with te_a >= 2 E_a and the
- *    last few roundings (|t| 2^-21), off each box's L - sum te_a |G_a|. The
- *    AVX2 and AVX-512 paths fuse multiply-adds: fewer roundings, the same
- *    bounds (their bounds, and so the nodes they prove, may differ from the
- *    plain code's; the samples, and meshes, are the same bits, cull.c 4).
+/* aniso_boxes.c - anisotropic SPH nodes proven inside a box of 3 x 3 x 3 nodes at a time: each kernel's tangent line in q^2 at the box's centre node. */
+/* Why a node whose bound exceeds the returned level samples above the
+ * threshold: docs/culling.md, part B.
  *
  * Layout as inside_boxes.c: along x 16 lanes of box centres of stride 2
  * (nodes 1, 3, ..), along y and z rows of stride 3 (nodes 1, 4, ..); a

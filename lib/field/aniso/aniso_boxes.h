@@ -9,11 +9,7 @@
  * pass, inside_boxes.h); the partial sums (jm_aniso_partial) on the other
  * blocks JM_AN_FULL_FILL full. A kernel adds to the box centres within
  * JM_AN_BOX_REACH of its box's half sides. Speed only: every subset of
- * terms gives a lower bound. Measured in instructions (callgrind, AVX2
- * paths, 1 thread): the 100k block's field, against the partial sums at
- * 0.9 full, 7.43 -> 6.45 G (two runs; fill 0.3 and 0.5 6.42 G, 0.8 6.46 G;
- * reach 0.6 10.1 G, 0.7 6.49 G, 0.8 6.45 G, all 6.69 G), the dam break
- * frame 23 2.651 -> 2.646 G (0.5: 2.676 G), the bunny 0.911 -> 0.920 G. */
+ * terms gives a lower bound (docs/culling.md). */
 #define JM_AN_BOX_FILL 0.7
 #define JM_AN_BOX_REACH 0.75f
 
@@ -28,7 +24,7 @@ int jm_aniso_boxes_apply(const jm_config *c, size_t inner, const float lo[3], co
  * best of its boxes'. Returns the level above which a node's bound proves
  * its sample (jm_aniso_sample) above the threshold: the threshold raised by
  * the sample's rounding (+infinity: nothing proven). n <= 33; work holds
- * jm_aniso_box_work_bytes() bytes. The proof: aniso_boxes.c. */
+ * jm_aniso_box_work_bytes() bytes. The proof: docs/culling.md, part B. */
 float jm_aniso_boxes(const jm_grid *g, const jm_config *c, const jm_an_cand *cand, const float *x, const float *y,
                      const float *z, int n, void *work, float *out);
 

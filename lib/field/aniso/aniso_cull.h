@@ -9,8 +9,8 @@
  * and no crossing; 0 when that cannot be proven. cand: the block's
  * candidates (anisotropy.h). *inner gets the number of
  * particles (not isolated) within the box. The proof, and that of the
- * partial sums (jm_aniso_partial) proving nodes inside, is at the top of
- * aniso_cull.c. */
+ * partial sums (jm_aniso_partial) proving nodes inside: docs/culling.md,
+ * part A. */
 int jm_aniso_block_outside(const jm_grid *g, const jm_config *c, const jm_an_cand *cand, const float lo[3],
                            const float hi[3], size_t *inner);
 #endif

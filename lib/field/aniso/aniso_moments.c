@@ -9,9 +9,9 @@
 #include <string.h>
 
 /* The one-at-a-time loop is built for x86-64-v4 and AVX2 machines and for
- * any x86-64 (JM_CLONES_V4, internal.h): the same bits. */
+ * any x86-64 (JM_KERNEL_V4, cpu.h): the same bits. */
 
-JM_CLONES_V4 void jm_an_moments(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
+JM_BODY void jm_an_moments_body(const float *xs, const float *ys, const float *zs, size_t groups, const float p[3],
                                 const jm_an_radii *rad, double out[JM_AN_MOMENTS])
 {
     const float R2 = rad->R2, invR = rad->invR, S2 = rad->S2, invB = rad->invB;
@@ -43,6 +43,7 @@ JM_CLONES_V4 void jm_an_moments(const float *xs, const float *ys, const float *z
         for (int l = 0; l < 8; l++) out[k] += L[k][l];
     }
 }
+JM_KERNEL_V4(, void, jm_an_moments, jm_an_moments_body, (const float *xs, const float *ys, const float *zs, size_t groups, const float p[3], const jm_an_radii *rad, double out[JM_AN_MOMENTS]), (xs, ys, zs, groups, p, rad, out))
 
 #include "core/pair16.h"
 #ifdef JM_PAIR16

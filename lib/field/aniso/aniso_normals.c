@@ -4,9 +4,9 @@
 #include <math.h>
 
 /* The one-at-a-time loop is built for x86-64-v4 and AVX2 machines and for
- * any x86-64 (JM_CLONES_V4, internal.h): the same bits. */
+ * any x86-64 (JM_KERNEL_V4, cpu.h): the same bits. */
 
-JM_CLONES_V4 int jm_aniso_normal(const jm_an_list *l, const float p[3], float nrm[3])
+JM_BODY int jm_aniso_normal_body(const jm_an_list *l, const float p[3], float nrm[3])
 {
     /* grad phi = sum amp w'(q) / q M d, with q = sqrt(d^T M d); 8 lanes
      * summed in a fixed order */
@@ -31,6 +31,7 @@ JM_CLONES_V4 int jm_aniso_normal(const jm_an_list *l, const float p[3], float nr
     }
     return jm_normal_from_lanes8(gx, gy, gz, nrm);
 }
+JM_KERNEL_V4(, int, jm_aniso_normal, jm_aniso_normal_body, (const jm_an_list *l, const float p[3], float nrm[3]), (l, p, nrm))
 
 #include "core/pair16.h"
 #ifdef JM_PAIR16

@@ -2,8 +2,8 @@
 #include "field/aniso/aniso_splat.h"
 #include "field/sph/cull.h"
 #include "core/round8.h"
+#include "core/cpu.h"
 #include <math.h>
-#include <pthread.h>
 #include <string.h>
 
 #define AN(g, i) (&(g)->an[JM_AN_STRIDE * (size_t)(i)])
@@ -218,7 +218,7 @@ __attribute__((target("avx2"))) INLINE void an_rows_avx2(AN_ROWS_ARGS)
  * computed as in AN_FULL, and none past the run is); AN_PART the partial
  * sums: the same slabs, rows and row terms, on the rows that cut the inner
  * ellipsoid q < 2 JM_AN_PART_REACH only its chord there, which lies within
- * the full chord (aniso_cull.c, 3). */
+ * the full chord (docs/culling.md, A.3). */
 INLINE void an_sample(AN_SAMPLE_ARGS, an_row_fn row_fn, const int mode, an_rows_fn rows_fn)
 {
     const int ns = JM_PAD(n);
@@ -323,39 +323,23 @@ AN_VARIANT(an_part_avx512, "avx512f", an_rowp_avx512, AN_PART)
 #endif
 
 typedef void (*an_sample_fn)(AN_SAMPLE_ARGS);
-static an_sample_fn an_chosen[3]; /* every node, spans, partial sums */
-static pthread_once_t an_once = PTHREAD_ONCE_INIT;
-/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 the fastest the
- * CPU runs, 1 plain C, 2 SSE2, 3 AVX2 (where the CPU has it) */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-static void an_choose(void)
-{
-    static const an_sample_fn c_fns[3] = {an_sample_c, an_span_c, an_part_c};
-    const an_sample_fn *f = c_fns;
+/* per level of cpu.h: every node, spans, partial sums */
+static const an_sample_fn an_chosen[4][3] = {
+    {an_sample_c, an_span_c, an_part_c},
 #ifdef AN_SIMD
-    static const an_sample_fn sse2[3] = {an_sample_sse2, an_span_sse2, an_part_sse2};
-    static const an_sample_fn avx2[3] = {an_sample_avx2, an_span_avx2, an_part_avx2};
-    static const an_sample_fn avx512[3] = {an_sample_avx512, an_span_avx512, an_part_avx512};
-    __builtin_cpu_init();
-    f = __builtin_cpu_supports("avx2") ? avx2 : sse2;
-    if (__builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT != 3) f = avx512;
-    if (JM_SPLAT_VARIANT == 1) f = c_fns;
-    if (JM_SPLAT_VARIANT == 2) f = sse2;
+    {an_sample_sse2, an_span_sse2, an_part_sse2},
+    {an_sample_avx2, an_span_avx2, an_part_avx2},
+    {an_sample_avx512, an_span_avx512, an_part_avx512},
 #endif
-    memcpy(an_chosen, f, sizeof an_chosen);
-}
+};
 
 void jm_aniso_sample(AN_SAMPLE_ARGS)
 {
-    pthread_once(&an_once, an_choose);
-    an_chosen[span != NULL](g, c, cand, x, y, z, n, span, pad);
+    an_chosen[jm_cpu_level()][span != NULL](g, c, cand, x, y, z, n, span, pad);
 }
 
 void jm_aniso_partial(const jm_grid *g, const jm_config *c, const jm_an_cand *cand, const float *x, const float *y,
                       const float *z, int n, float *out)
 {
-    pthread_once(&an_once, an_choose);
-    an_chosen[2](g, c, cand, x, y, z, n, NULL, out);
+    an_chosen[jm_cpu_level()][2](g, c, cand, x, y, z, n, NULL, out);
 }

@@ -16,13 +16,12 @@ void jm_aniso_sample(const jm_grid *g, const jm_config *c, const jm_an_cand *can
                      const float *z, int n, const uint8_t *span, float *pad);
 
 /* The partial sums count a kernel's terms only where its argument q is
- * under JM_AN_PART_REACH of its support 2 (measured best on the 100k block
- * and the dam break frame). */
+ * under JM_AN_PART_REACH of its support 2. Speed only. */
 #define JM_AN_PART_REACH 0.6f
 /* Partial sums into out (laid out as pad): each node gets, in the same order
  * and with the same bits, a subset of the terms jm_aniso_sample adds there,
  * so, every term being >= 0 and float addition monotone, out <= the node's
- * sample (the proof: aniso_cull.c, part 3). */
+ * sample (the proof: docs/culling.md, A.3). */
 void jm_aniso_partial(const jm_grid *g, const jm_config *c, const jm_an_cand *cand, const float *x, const float *y,
                       const float *z, int n, float *out);
 #endif

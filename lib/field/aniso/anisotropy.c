@@ -83,7 +83,7 @@ static void an_kernel(const jm_config *c, const float xi[3], const jm_an_acc *a,
         out[10 + ax] = (float)(2.0 * h * sqrt(e2) * (1.0 + 1e-5));
     }
     /* 1 / (h s_max), the square root of M's least eigenvalue, lowered by
-     * 16 kappa u for the float rounding of M and of q (aniso_cull.c, 2) */
+     * 16 kappa u for the float rounding of M and of q (docs/culling.md, A.2) */
     const double smax = fmax(s[0], fmax(s[1], s[2])), smin = fmin(s[0], fmin(s[1], s[2]));
     const double kappa = (smax / smin) * (smax / smin);
     out[13] = (float)(1.0 / (h * smax) * (1.0 - 16.0 * kappa * 0x1p-24));

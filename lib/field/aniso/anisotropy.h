@@ -12,7 +12,7 @@
  *   [10..12] half-sides of the box around cbar holding the ellipsoid q < 2
  *   [13]     gmin: at most the float q the splat computes at any point x,
  *            divided by |x - cbar| (its smallest axis scale, less the float
- *            slack proven in aniso_cull.c) */
+ *            slack of docs/culling.md, A.2) */
 #define JM_AN_STRIDE 14
 
 /* Accumulates one particle's neighbourhood (itself included) for the

@@ -1,6 +1,7 @@
 /* metafinish.c - the stitched metasphere mesh's last pass: chord-sag compensation, normals kept facing their triangles. */
 #include "field/meta/metafinish.h"
 #include "field/meta/metafinish16.h"
+#include "core/cpu.h"
 #include <math.h>
 #include <string.h>
 
@@ -23,7 +24,7 @@
 /* Per-triangle kernels of the passes over every triangle, with the same
  * float operations in the SSE2 and the plain C versions (the same bits):
  * a point's coordinates in a vector's first three lanes. */
-#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
+#ifdef __SSE2__
 #include <emmintrin.h>
 static inline __m128 ld3(const float *p)
 {
@@ -182,13 +183,9 @@ static int folds(const float *restrict P, const float *restrict N, const float *
 #endif
 
 /* the capacity of the lists of triangles the fold rounds keep; past it
- * they fall back to every triangle (the same result); variants 2 and 3 (a
- * build option for tests, see t_splat_variants.sh) take that path */
-#if JM_SPLAT_VARIANT >= 2
-#define FINISH_LIST(nt) ((size_t)16 + 0 * (nt))
-#else
-#define FINISH_LIST(nt) ((nt) / 8 + 64)
-#endif
+ * they fall back to every triangle (the same result); small while a test
+ * forces a CPU level (cpu.h), so that the fallback runs too */
+#define FINISH_LIST(nt) (jm_cpu_forced() ? (size_t)16 : (nt) / 8 + 64)
 /* rounds that halve the offsets of a folded triangle's vertices before
  * they are zeroed */
 #define FOLD_HALVINGS 4

@@ -1,21 +1,12 @@
 /* metafinish16.c - the metasphere finish's per-triangle kernels, 16 triangles per AVX-512 pass, with the bits of metafinish.c's one-at-a-time ones. */
 #include "field/meta/metafinish16.h"
 #include "core/cpu.h"
-#include <stdatomic.h>
-
-static atomic_int width = 16;
-void jm_finish_set_width(int lanes) { atomic_store(&width, lanes); }
-int jm_finish_width(void) { return atomic_load(&width); }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 
-int jm_finish16_ok(void)
-{
-    /* the 128-bit masked loads are AVX-512VL (every AVX-512 CPU but the
-     * Xeon Phi has it) */
-    return jm_finish_width() >= 16 && jm_cpu_avx512() && __builtin_cpu_supports("avx512vl");
-}
+/* the 128-bit masked loads are AVX-512VL, part of cpu.h's AVX-512 level */
+int jm_finish16_ok(void) { return jm_cpu_avx512(); }
 
 /* Four triangles a register, one a 128-bit lane laid out as metafinish.c's
  * SSE2 code lays out one (x, y, z, +0), so that each lane runs that code's

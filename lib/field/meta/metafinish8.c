@@ -3,14 +3,14 @@
 #include "core/cpu.h"
 
 /* As metafinish16.c on 256-bit registers, for the CPUs without AVX-512
- * (AMD Zen 2: the one-at-a-time SSE2 code was 11 of the jet's 47 million
- * instructions): each 128-bit lane one triangle laid out as metafinish.c's
+ * (there the one-at-a-time code is a large part of the metasphere's
+ * work): each 128-bit lane one triangle laid out as metafinish.c's
  * SSE2 code lays out one (x, y, z, +0), running that code's operations (its
  * shuffles stay within a lane). */
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
 
-int jm_finish8_ok(void) { return jm_finish_width() >= 8 && jm_cpu_avx2(); }
+int jm_finish8_ok(void) { return jm_cpu_avx2(); }
 
 #define AVX2 __attribute__((target("avx2")))
 

@@ -69,6 +69,7 @@ typedef struct pass {
     float r, rn_probe, rb_probe; /* the probe's reach of a neck from its axis (jm_neck_reach) */
     int clo[3], chi[3]; /* a pass over a few vertices: the parts that hold any */
     jm_mnorm *rec;      /* the fused pass: records its visits here, or NULL */
+    int wide;           /* 0 plain C, 1 AVX2, 2 AVX-512 (cpu.h's level) */
 } pass;
 
 /* the fused pass's visit of a piece, kept for jm_meta_normals_finish (out
@@ -172,23 +173,9 @@ static void link_c(const pass *P, const int lo[3], const int hi[3], const float 
     })
 }
 
-/* JM_SPLAT_VARIANT (a build option for tests, as splat.c): 0 runs AVX2
- * where the CPU has it, any other value the plain C (the same bits) */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && JM_SPLAT_VARIANT == 0
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES)
 #include <immintrin.h>
-#include <pthread.h>
 #define HAVE_AVX2_NORMALS 1
-static int wide;
-static pthread_once_t wide_once = PTHREAD_ONCE_INIT;
-static void wide_choose(void)
-{
-    __builtin_cpu_init();
-    wide = __builtin_cpu_supports("avx2") != 0;
-    if (wide && jm_cpu_avx512()) wide = 2;
-}
 
 /* The kernels in runs of 8 (AVX2) and of 16 (AVX-512, where the pass
  * has 16 points or more), written once in metanormal_simd.h: each lane does
@@ -234,7 +221,7 @@ static void wide_choose(void)
 #include "field/meta/metanormal_simd.h"
 #undef W
 /* 16 lanes where the CPU has AVX-512 and the pass has 16 points or more */
-static inline int use16(const void *ctx) { return wide == 2 && ((const pass *)ctx)->n >= 16; }
+static inline int use16(const void *ctx) { return ((const pass *)ctx)->wide == 2 && ((const pass *)ctx)->n >= 16; }
 #endif
 
 
@@ -244,7 +231,7 @@ static inline int use16(const void *ctx) { return wide == 2 && ((const pass *)ct
 static void normal_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
 {
 #ifdef HAVE_AVX2_NORMALS
-    if (wide) {
+    if (((const pass *)ctx)->wide) {
         if (use16(ctx)) ball16(ctx, lo, hi, q);
         else ball8(ctx, lo, hi, q);
         return;
@@ -255,7 +242,7 @@ static void normal_ball(void *ctx, const int lo[3], const int hi[3], const float
 static void normal_link(void *ctx, const int lo[3], const int hi[3], const float *q, const float *u, float D, float rr2)
 {
 #ifdef HAVE_AVX2_NORMALS
-    if (wide) {
+    if (((const pass *)ctx)->wide) {
         if (use16(ctx)) link16(ctx, lo, hi, q, u, D, rr2);
         else link8(ctx, lo, hi, q, u, D, rr2);
         return;
@@ -267,7 +254,7 @@ static void fused_ball(void *ctx, const int lo[3], const int hi[3], const float 
 {
     record(((const pass *)ctx)->rec, lo, hi, q, NULL, 0.0f, 0.0f);
 #ifdef HAVE_AVX2_NORMALS
-    if (wide) {
+    if (((const pass *)ctx)->wide) {
         if (use16(ctx)) ball16p(ctx, lo, hi, q);
         else ball8p(ctx, lo, hi, q);
         return;
@@ -282,7 +269,7 @@ static void fused_link(void *ctx, const int lo[3], const int hi[3], const float 
     /* the probe's reach from the axis (jm_probe_pieces) */
     const float rp = jm_neck_reach(P->r, u[3], P->rn_probe, P->rb_probe);
 #ifdef HAVE_AVX2_NORMALS
-    if (wide) {
+    if (((const pass *)ctx)->wide) {
         if (use16(ctx)) link16p(ctx, lo, hi, q, u, D, rr2, rp * rp);
         else link8p(ctx, lo, hi, q, u, D, rr2, rp * rp);
         return;
@@ -326,15 +313,14 @@ static pass make_pass(const jm_config *c, int np, const float *x, const float *y
      * particle (a ball) or of its axis (a neck): r (1 - (thr - tau)) */
     const float rb = band_reach(c);
     pass P = {x, y, z, acc, acc + n, acc + 2 * n, n, ps, np, c->threshold, 1.0f / c->mv_tau,
-              1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}, NULL};
+              1.0f / c->r, rb * rb, NULL, c->r, 0.0f, 0.0f, {0, 0, 0}, {0, 0, 0}, NULL, 0};
+    const int level = jm_cpu_level();
+    P.wide = level >= JM_CPU_AVX512 ? 2 : level >= JM_CPU_AVX2;
     return P;
 }
 int jm_meta_normals_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_probe *pr, jm_mnorm *m, int B,
                           const float *x, const float *y, const float *z, size_t nv, float rb_probe, float rn_probe)
 {
-#ifdef HAVE_AVX2_NORMALS
-    pthread_once(&wide_once, wide_choose);
-#endif
     const size_t ns = nv < 8 ? 8 : nv;
     if (!reserve(m, ns)) return 0;
     pass P = make_pass(c, jm_probe_parts(B, pr->pc), pr->px, pr->py, pr->pz, ns, pr->pstart, m->acc);

@@ -4,6 +4,7 @@
 #include "field/meta/metanormal.h"
 #include "field/meta/metavertex.h"
 #include "extract/tables.h"
+#include "core/cpu.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,8 +20,7 @@
  * vertices sorted into parts of PART^3 cubes, each piece (both half-necks
  * of a link at once) visits the parts its box reaches and evaluates their
  * vertices four (AVX2: eight) at a time, keeping the largest value at each
- * (about 5 % of the jet frame's instructions, against 45 % for checking
- * the vertices one by one). Where that value is off the threshold by more
+ * (about a ninth of the work of checking the vertices one by one). Where that value is off the threshold by more
  * than c->mv_check the vertex is settled again on every piece near it
  * (jm_meta_settle: about 1.2 % of the jet's vertices), so every vertex
  * ends within that of the exact surface. */
@@ -141,15 +141,16 @@ typedef struct rows {
  * from q, half its link long: cos(s / r) - |p - q - s u| / r for
  * s = (p - q).u in [0, half] and |p - q - s u| < rr, nothing elsewhere
  * (within the reach of its box, as the node splat). */
-#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1
+#ifdef __SSE2__
 #include <emmintrin.h>
+#define HAVE_SSE2_PROBE 1
 typedef __m128 vf;
 #define V1(x) _mm_set1_ps(x)
 #define VLD(p) _mm_loadu_ps(p)
 #define VADD _mm_add_ps
 #define VSUB _mm_sub_ps
 #define VMUL _mm_mul_ps
-static void splat_ball(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
+static void splat_ball4(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
                        float inv_r)
 {
     const float *restrict X = R->x, *restrict Y = R->y, *restrict Z = R->z;
@@ -162,7 +163,7 @@ static void splat_ball(const rows *R, const uint32_t *ps, int np, const int lo[3
         _mm_storeu_ps(V + k, _mm_max_ps(v, VLD(V + k)));
     })
 }
-static void splat_link(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
+static void splat_link4(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
                        const float *u, float D, float rr2, float inv_r)
 {
     const float *restrict X = R->x, *restrict Y = R->y, *restrict Z = R->z;
@@ -188,7 +189,7 @@ static void splat_link(const rows *R, const uint32_t *ps, int np, const int lo[3
         _mm_storeu_ps(V + k, _mm_or_ps(_mm_and_ps(ok, _mm_max_ps(v, old)), _mm_andnot_ps(ok, old)));
     })
 }
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES) && JM_SPLAT_VARIANT == 0
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(JM_NO_CLONES)
 #include <immintrin.h>
 #define HAVE_AVX2_PROBE 1
 /* the same operations eight vertices at a time */
@@ -239,7 +240,8 @@ __attribute__((target("avx2"))) static void splat_link8(const rows *R, const uin
     })
 }
 #endif
-#else
+#endif
+/* plain C, four at a time as above */
 static void splat_ball(const rows *R, const uint32_t *ps, int np, const int lo[3], const int hi[3], const float *q,
                        float inv_r)
 {
@@ -266,19 +268,6 @@ static void splat_link(const rows *R, const uint32_t *ps, int np, const int lo[3
         }
     })
 }
-#endif
-
-/* eight vertices at a time where the CPU runs AVX2 (the same values) */
-#ifdef HAVE_AVX2_PROBE
-static int wide;
-#include <pthread.h>
-static pthread_once_t wide_once = PTHREAD_ONCE_INIT;
-static void wide_choose(void)
-{
-    __builtin_cpu_init();
-    wide = __builtin_cpu_supports("avx2") != 0;
-}
-#endif
 
 
 /* node and direction of a vertex slot, and its edge a + t ab */
@@ -304,13 +293,20 @@ typedef struct probe_ctx {
     const uint32_t *ps;
     int np;
     float inv_r;
+    int level; /* cpu.h's: eight vertices at a time from AVX2, four from SSE2 */
 } probe_ctx;
 static void probe_ball(void *ctx, const int lo[3], const int hi[3], const float *q)
 {
     const probe_ctx *k = ctx;
 #ifdef HAVE_AVX2_PROBE
-    if (wide) {
+    if (k->level >= JM_CPU_AVX2) {
         splat_ball8(k->R, k->ps, k->np, lo, hi, q, k->inv_r);
+        return;
+    }
+#endif
+#ifdef HAVE_SSE2_PROBE
+    if (k->level >= JM_CPU_SSE2) {
+        splat_ball4(k->R, k->ps, k->np, lo, hi, q, k->inv_r);
         return;
     }
 #endif
@@ -320,8 +316,14 @@ static void probe_link(void *ctx, const int lo[3], const int hi[3], const float 
 {
     const probe_ctx *k = ctx;
 #ifdef HAVE_AVX2_PROBE
-    if (wide) {
+    if (k->level >= JM_CPU_AVX2) {
         splat_link8(k->R, k->ps, k->np, lo, hi, q, u, D, rr2, k->inv_r);
+        return;
+    }
+#endif
+#ifdef HAVE_SSE2_PROBE
+    if (k->level >= JM_CPU_SSE2) {
+        splat_link4(k->R, k->ps, k->np, lo, hi, q, u, D, rr2, k->inv_r);
         return;
     }
 #endif
@@ -333,15 +335,11 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
                   size_t nv)
 {
     if (!nv) return 1;
-    /* parts of 4 cubes a side, 2 where the block is crowded (bulk fluid's
-     * tunnels: on the jet about 200 vertices a block, none past 700, on
-     * blocks of 3000 and 24,389 particles about 600 and 1500: 2 cubes
-     * took 11 % fewer instructions there, 4 % more on the jet) */
+    /* parts of 4 cubes a side, 2 where the block is crowded (the tunnels
+     * of bulk fluid, JM_PROBE_CROWDED vertices or more; a jet's blocks hold
+     * a few hundred): smaller parts visit fewer vertices there */
     pr->pc = nv >= JM_PROBE_CROWDED ? 2 : 4;
     const int np = jm_probe_parts(B, pr->pc);
-#ifdef HAVE_AVX2_PROBE
-    pthread_once(&wide_once, wide_choose);
-#endif
     const size_t parts = (size_t)np * np * np, sn = (size_t)B + 1, ns = nv < 8 ? 8 : nv;
     if (!reserve(pr, ns, parts)) return 0;
     const float thr = c->threshold, tol = c->mv_check, inv_r = 1.0f / c->r;
@@ -396,7 +394,7 @@ int jm_meta_probe(const jm_grid *g, const jm_config *c, const jm_hood *hood, jm_
         /* the normals' pass, which reaches further (metanormal.h) */
         if (!jm_meta_normals_probe(g, c, hood, pr, m, B, x, y, z, nv, rb, rn)) return 0;
     } else {
-        probe_ctx pc = {&R, ps, np, inv_r};
+        probe_ctx pc = {&R, ps, np, inv_r, jm_cpu_level()};
         const jm_piece_visitor vis = {rb, rn, probe_ball, probe_link, &pc};
         jm_probe_pieces(g, c, hood, B, pr->pc, x, y, z, &vis);
     }

@@ -156,7 +156,7 @@ JM_L8 size_t beaten(const jm_grid *g, const jm_config *c, jm_roots *r, uint32_t 
     return kept;
 }
 
-JM_CLONES_AVX2 void jm_roots_solve(const jm_grid *g, const jm_config *c, jm_roots *r)
+JM_BODY void jm_roots_solve_body(const jm_grid *g, const jm_config *c, jm_roots *r)
 {
     const size_t n = r->n;
     if (!n) return;
@@ -186,6 +186,7 @@ JM_CLONES_AVX2 void jm_roots_solve(const jm_grid *g, const jm_config *c, jm_root
         exits(g, c, r, vj, pj, nn, 1, round);
     }
 }
+JM_KERNEL_AVX2(, void, jm_roots_solve, jm_roots_solve_body, (const jm_grid *g, const jm_config *c, jm_roots *r), (g, c, r))
 
 int jm_roots_grow(jm_roots *r)
 {

@@ -13,11 +13,9 @@
  * ball, but only to rounding (at a neck's end, across its axis, the two are
  * equal), so an unmasked run's width would decide a few ties. Every path
  * does the same float operations in the same order: the same bits. */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-#if defined(__SSE2__) && JM_SPLAT_VARIANT != 1 /* 1: plain C, for the tests */
+#ifdef __SSE2__
 #include <emmintrin.h>
+#define HAVE_SPLAT4 1
 typedef __m128 vf;
 #define V1(x) _mm_set1_ps(x)
 #define VLD(p) _mm_loadu_ps(p)
@@ -65,8 +63,9 @@ static inline __attribute__((always_inline)) void neck_run4(float *row, uint32_t
     v = _mm_or_ps(_mm_and_ps(ok, v), _mm_andnot_ps(ok, V1(floor_v)));
     keep_max(row, wrow, v, id, a, i0, i1);
 }
-#else
-static inline void keep_max(float *row, uint32_t *wrow, const float *v, uint32_t id, int a, int i0, int i1)
+#endif
+/* the same in plain C */
+static inline void keep_max_c(float *row, uint32_t *wrow, const float *v, uint32_t id, int a, int i0, int i1)
 {
     for (int l = 0; l < 4; l++) {
         int m = v[l] > row[l] && a + l >= i0 && a + l < i1;
@@ -74,18 +73,18 @@ static inline void keep_max(float *row, uint32_t *wrow, const float *v, uint32_t
         wrow[l] = m ? id : wrow[l];
     }
 }
-static inline void ball_run4(float *row, uint32_t *wrow, const float *x, float qx, float dyz2, float inv_r, uint32_t id,
-                             int a, int i0, int i1)
+static inline void ball_run4c(float *row, uint32_t *wrow, const float *x, float qx, float dyz2, float inv_r, uint32_t id,
+                              int a, int i0, int i1)
 {
     float v[4];
     for (int l = 0; l < 4; l++) {
         float dx = x[l] - qx;
         v[l] = 1.0f - sqrtf(dx * dx + dyz2) * inv_r;
     }
-    keep_max(row, wrow, v, id, a, i0, i1);
+    keep_max_c(row, wrow, v, id, a, i0, i1);
 }
-static inline void neck_run4(float *row, uint32_t *wrow, const float *x, float qx, float u0, float syz, float wyz2,
-                             float half, float inv_r, float floor_v, uint32_t id, int a, int i0, int i1)
+static inline void neck_run4c(float *row, uint32_t *wrow, const float *x, float qx, float u0, float syz, float wyz2,
+                              float half, float inv_r, float floor_v, uint32_t id, int a, int i0, int i1)
 {
     float v[4];
     for (int l = 0; l < 4; l++) {
@@ -95,9 +94,8 @@ static inline void neck_run4(float *row, uint32_t *wrow, const float *x, float q
         float t = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
         v[l] = s >= 0.0f && s <= half ? t : floor_v;
     }
-    keep_max(row, wrow, v, id, a, i0, i1);
+    keep_max_c(row, wrow, v, id, a, i0, i1);
 }
-#endif
 
 /* a row no piece has reached yet: at the floor, no winner */
 static inline void floor_row(float *row, uint32_t *wrow, int n, float floor_v)
@@ -122,15 +120,23 @@ static void first_touch(float *f, uint32_t *win, uint8_t *rows, int n, int k, in
     rows[(size_t)k * n + j] = JM_ROW_SPLAT;
 }
 
-/* the splat over every piece, in runs of 4 (any x86-64, or plain C) */
+/* the splat over every piece, in runs of 4: SSE2 (any x86-64) and plain C */
+#ifdef HAVE_SPLAT4
 #define MS_W 4
 #define MS_NAME splat4
 #define MS_ATTR
 #define MS_BALL ball_run4
 #define MS_NECK neck_run4
 #include "field/meta/metasplat_rows.h"
+#endif
+#define MS_W 4
+#define MS_NAME splat4c
+#define MS_ATTR
+#define MS_BALL ball_run4c
+#define MS_NECK neck_run4c
+#include "field/meta/metasplat_rows.h"
 
-/* where jm_cpu_avx2() (not in the plain C and SSE2 test variants) */
+/* where the level is AVX2 or more (cpu.h) */
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define HAVE_SPLAT8 1
@@ -188,9 +194,18 @@ void jm_meta_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
                     const float *z, int n, float *f, uint32_t *win, uint8_t *rows)
 {
     memset(rows, JM_ROW_UNSET, (size_t)n * n);
+    const int level = jm_cpu_level();
 #ifdef HAVE_SPLAT8
-    if (jm_cpu_avx2()) splat8(g, c, hood, x, y, z, n, f, win, rows);
-    else
+    if (level >= JM_CPU_AVX2) {
+        splat8(g, c, hood, x, y, z, n, f, win, rows);
+        return;
+    }
 #endif
+#ifdef HAVE_SPLAT4
+    if (level >= JM_CPU_SSE2) {
         splat4(g, c, hood, x, y, z, n, f, win, rows);
+        return;
+    }
+#endif
+    splat4c(g, c, hood, x, y, z, n, f, win, rows);
 }

@@ -6,7 +6,7 @@
 
 /* The cubic spline's shape (1/4)(2-q)^3 - (1-q)^3 (each cube where its
  * base is positive) in double, for the bounds of the culling proofs
- * (cull.c, aniso_cull.c): evaluated with margin, never for output. */
+ * (docs/culling.md): evaluated with margin, never for output. */
 static inline double jm_cull_kernel(double q)
 {
     double a = 2.0 - q, b = 1.0 - q;
@@ -19,16 +19,10 @@ static inline double jm_cull_kernel(double q)
  * of them within the box [lo, hi]: 0.3 of (box volume / (2r)^3) or more)
  * holds fluid enough that block.c proves its nodes inside with partial sums
  * and samples only the rest, and jm_sph_block_outside does not try its
- * proof there. Speed only: 0.3 measured against 0.85 and 0.15 (with the
- * exact partial sums, alternating runs: the 8M block's field 7.3-7.7 s at
- * 0.85, 6.3 s at 0.3; the 1M block's 1.01 s and 0.91-0.93 s), as the
- * blocks the surface cuts no longer sample all of their fluid's nodes. */
+ * proof there. Speed only (docs/culling.md). */
 #define JM_FULL_FILL 0.3
 /* The anisotropic kernels' exact partial sums (aniso_splat.c) pay only in
- * blocks nine tenths full: against 0.3, 1 thread, field stage, alternating
- * runs, the 100k block 267 -> 245 ms, the dam break frame 108 -> 96 ms, the
- * bunny frame 34 -> 29 ms (0.6 in between; 1.2, no partial sums, 305 ms on
- * the block). Speed only. */
+ * blocks nine tenths full. Speed only. */
 #define JM_AN_FULL_FILL 0.9
 /* 1 when inner particles at the rest spacing 2r fill the fraction frac of
  * the box [lo, hi] or more */
@@ -43,7 +37,7 @@ static inline int jm_sph_block_full(const jm_config *c, size_t inner, const floa
     return jm_block_filled(c, inner, lo, hi, c->aniso ? JM_AN_FULL_FILL : JM_FULL_FILL);
 }
 
-/* T as a float at least T (the proofs' levels, cull.c) */
+/* T as a float at least T (the proofs' levels, docs/culling.md) */
 static inline float jm_float_up(double T)
 {
     const float t = (float)T;
@@ -52,10 +46,8 @@ static inline float jm_float_up(double T)
 
 /* The partial sums' kernel (jm_sph_partial): two tangents of the cubic
  * spline's shape W as a function of s = q^2, at s = 0.64 and s = 1.74,
- * each lowered by 1e-3. W(sqrt s) is convex in s on [0, inf) (second
- * derivative > 0 on (0, 1) and (1, 4), first derivative continuous, 0 from
- * s = 4 on), so each line lies below it everywhere, and so does
- * max(0, line 1, line 2): the terms are lower bounds of the kernel's with no
+ * each lowered by 1e-3: W(sqrt s) is convex in s (docs/culling.md, the
+ * lemma), so max(0, line 1, line 2) is a lower bound of the kernel with no
  * square root. Together they keep about 0.80 of a uniform interior's field
  * within JM_PART_REACH. test_cull.c checks the lines against W. */
 #define JM_TAN_A1 0.807f
@@ -65,7 +57,7 @@ static inline float jm_float_up(double T)
 
 /* The level above which a partial sum (jm_sph_partial) proves its node's
  * sample above the threshold, for the block of the hood h: the threshold
- * raised by the rounding of both sums (cull.c, 3), from the count and
+ * raised by the rounding of both sums (docs/culling.md, 3), from the count and
  * weight sum of the hood's particles that are not isolated (h->live,
  * h->wsum); +infinity (nothing proven) when the threshold is not above 0
  * or the hood holds 1e5 such particles or more. */
@@ -76,8 +68,8 @@ float jm_sph_partial_threshold(const jm_config *c, const jm_hood *h);
  * isotropic SPH field (splat.c), so the block holds no inside node and no
  * crossing; 0 when that cannot be proven. *inner gets the number of
  * particles (not isolated) within the box; a full block
- * (jm_sph_block_full) returns 0 at once. The proof is at the top of
- * cull.c. */
+ * (jm_sph_block_full) returns 0 at once. The proof: docs/culling.md,
+ * part I. */
 int jm_sph_block_outside(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float lo[3],
                          const float hi[3], size_t *inner);
 

@@ -3,7 +3,6 @@
 #include "core/cpu.h"
 #include <math.h>
 #include <stddef.h>
-#include <stdatomic.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
@@ -84,7 +83,7 @@ typedef struct {
     float E2, te[3];
     float lo[3], hi[3];            /* particles outside add to no row */
     float Rp, Rp2, inv3h;
-    float M, Gt;                   /* |a - b (s + E2)| and |b v_a| for any term (cull.c, 3b) */
+    float M, Gt;                   /* |a - b (s + E2)| and |b v_a| for any term (docs/culling.md, 3b) */
 } box_setup;
 
 static void setup(const jm_config *c, const float *x, const float *y, const float *z, int n, box_setup *b)
@@ -146,12 +145,9 @@ typedef struct {
 size_t jm_box_work_bytes(void) { return sizeof(box_acc); }
 
 /* Each node the best of its boxes' bounds: V = L - sum_a te_a |G_a| less
- * its rounding (cull.c, 3b); along x node i in boxes (i - 1) / 2 and i / 2
+ * its rounding (docs/culling.md, 3b); along x node i in boxes (i - 1) / 2 and i / 2
  * (clipped to [0, nb)), along y and z in row i / 3 alone. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-__attribute__((target_clones("avx512f", "default"))) /* the same operations per lane either way */
-#endif
-static void spread(box_acc *A, const box_setup *b, int n, float *out)
+JM_BODY void spread_body(box_acc *A, const box_setup *b, int n, float *out)
 {
     const int nb = b->nb, nr = b->nr, ns = JM_PAD(n);
     const double u = 0x1p-24, te = (double)b->te[0] + b->te[1] + b->te[2];
@@ -177,6 +173,7 @@ static void spread(box_acc *A, const box_setup *b, int n, float *out)
     for (int k = 0; k < n; k++)
         for (int j = 0; j < n; j++) memcpy(out + ((size_t)k * n + j) * ns, X[k / 3][j / 3], (size_t)n * sizeof *out);
 }
+JM_KERNEL_512(static, void, spread, spread_body, (box_acc *A, const box_setup *b, int n, float *out), (A, b, n, out))
 
 /* Every particle of the hood (not isolated, within the setup's box): PREP
  * once, then ROW(L, G0, G1, G2, vy, vz, dyz2) on each row of box centres
@@ -235,7 +232,7 @@ static void boxes_c(const jm_grid *g, const jm_config *c, const jm_hood *hood, c
 #include <immintrin.h>
 /* The same terms 16 box centres at a time, the lines picked by a permute
  * from the 32 bins, fused multiply-adds (the bound holds for one rounding
- * or two, cull.c 3b). */
+ * or two, docs/culling.md, 3b). */
 #define PREP_AVX512                                                                                        \
     const __m512 vw = _mm512_set1_ps(w), vE2 = _mm512_set1_ps(b.E2);                                   \
     const __m512 dx = _mm512_sub_ps(_mm512_loadu_ps(b.xc), _mm512_set1_ps(q[0]));                      \
@@ -265,7 +262,7 @@ __attribute__((target("avx512f"))) static void boxes_avx512(const jm_grid *g, co
 /* The same terms in two halves of 8 lanes (AVX2 with FMA, AMD Zen 2 and
  * the like): the line of each lane's bin picked from the 32 bins by four
  * permutes of 8 and two blends on the bin's bits 3 and 4 (the sign bit of
- * the bin shifted left by 28 and 27); gathers were slower. */
+ * the bin shifted left by 28 and 27), cheaper than gathers. */
 __attribute__((target("avx2,fma"))) static inline __m256 lut32_avx2(const __m256 t[4], __m256i k, __m256 m3, __m256 m4)
 {
     const __m256 lo = _mm256_blendv_ps(_mm256_permutevar8x32_ps(t[0], k), _mm256_permutevar8x32_ps(t[1], k), m3);
@@ -350,19 +347,11 @@ __attribute__((target("avx2,fma"))) static void boxes_avx2(const jm_grid *g, con
 }
 #endif
 
-/* Which path runs: the CPU's best, or (tests) the one jm_box_test_path set. */
-static _Atomic int forced = -1;
-void jm_box_test_path(int path) { atomic_store(&forced, path); }
-
+/* Which path runs: cpu.h's level (AVX2 comes with FMA there) */
 int jm_box_path(void)
 {
-    int best = JM_BOX_C;
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    if (jm_cpu_avx2_fma()) best = JM_BOX_AVX2; /* off in the plain and SSE2 variants */
-    if (jm_cpu_avx512()) best = JM_BOX_AVX512;
-#endif
-    const int f = atomic_load(&forced);
-    return f >= 0 && f <= best ? f : best;
+    const int level = jm_cpu_level();
+    return level >= JM_CPU_AVX512 ? JM_BOX_AVX512 : level >= JM_CPU_AVX2 ? JM_BOX_AVX2 : JM_BOX_C;
 }
 
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,

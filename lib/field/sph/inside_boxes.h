@@ -9,21 +9,14 @@
  * edge h at most JM_BOX_MAX_H smoothing lengths (the box bound loses about
  * 4.5 (h / sph_h)^2 of the field at its corners: at h = sph_h / 4 it proves
  * a uniform interior's nodes by a margin of 0.05 at threshold 0.6, and at
- * 0.375 sph_h none). Speed only: both passes give lower bounds (cull.c). On
- * the 1M block it takes about 3.5 times less than the partial sums; next
- * to the surface, where a box's corners lose more, the partial sums prove
- * more nodes. 0.8 since the span sampler's rows went eight at a time
- * (splat.c), against 0.9, one thread: the 100k block 245.6 -> 237.6 ms (2
- * threads 128.6 -> 124.7), the 1M block and the real frames within 1 %
- * (0.7 much as 0.8, 0.85 and 0.95 slower on the 100k block). */
+ * 0.375 sph_h none). Next to the surface, where a box's corners lose more,
+ * the partial sums prove more nodes. Speed only: both passes give lower
+ * bounds (docs/culling.md). */
 #define JM_BOX_FILL 0.8
 #define JM_BOX_MAX_H 0.26
 /* Rows of boxes within JM_BOX_REACH of the support radius of a particle
- * get its terms (0.65 proves no node of the 1M block's interior, 0.7 all;
- * 0.75 keeps a margin: against 0.8, one thread, the 1M block 1402 -> 1313
- * ms, the 8M block 9171 -> 8506 ms, the 100k block 248.0 -> 245.8 ms, the
- * real frames of cmp.sh's set within 0.5 %; 0.7 loses near the surfaces,
- * the 100k block 257.9 ms). Speed only: any subset of terms is a bound. */
+ * get its terms (0.65 proves no node of a uniform interior, 0.7 all; 0.75
+ * keeps a margin). Speed only: any subset of terms is a bound. */
 #define JM_BOX_REACH 0.75f
 
 /* 1 when the box pass applies to a block whose box [lo, hi] holds inner
@@ -33,7 +26,7 @@ int jm_sph_boxes_apply(const jm_config *c, size_t inner, const float lo[3], cons
 /* The level above which a node's bound from jm_sph_boxes proves its sample
  * above the threshold, for the block of the hood h: the threshold raised
  * by the sample's rounding (the bounds come with their own rounding taken
- * off, cull.c, 3b), from h->live and h->wsum; +infinity (nothing proven)
+ * off, docs/culling.md, 3b), from h->live and h->wsum; +infinity (nothing proven)
  * when the threshold is not above 0 or the hood holds 1e5 particles not
  * isolated or more. */
 float jm_sph_box_threshold(const jm_config *c, const jm_hood *h);
@@ -44,16 +37,14 @@ float jm_sph_box_threshold(const jm_config *c, const jm_hood *h);
  * bound valid at all their nodes, and each node the best of its boxes' (a
  * node whose value is above jm_sph_box_threshold samples above the
  * threshold). n <= 33 (blocks of at most 32 cubes). AVX-512 where the CPU
- * has it, else AVX2 with FMA, else plain C (JM_SPLAT_VARIANT builds 1 and 2:
- * plain C, 3: AVX2): the bound holds for either rounding, so the paths may
- * prove different nodes but the samples, and meshes, are the same. */
+ * has it, else AVX2 with FMA, else plain C (cpu.h's level): the bound
+ * holds for either rounding, so the paths may prove different nodes but the
+ * samples, and meshes, are the same. */
 void jm_sph_boxes(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
                   const float *z, int n, void *work, float *out);
-/* The path jm_sph_boxes runs: the CPU's best, or a lesser one a test asked
- * for with jm_box_test_path (-1: the best again; process-wide). */
+/* The path jm_sph_boxes runs, from cpu.h's level (jm_testing_force_cpu). */
 enum { JM_BOX_C = 0, JM_BOX_AVX2 = 1, JM_BOX_AVX512 = 2 };
 int jm_box_path(void);
-void jm_box_test_path(int path);
 /* Bytes of the work buffer jm_sph_boxes takes (a block scratch's, block.c;
  * suitably aligned for floats). */
 size_t jm_box_work_bytes(void);

@@ -9,7 +9,7 @@
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
 /* The normal loop is built twice, for AVX2 machines and for any x86-64
- * (JM_CLONES_AVX2, internal.h); where the CPU has AVX-512 two vertices
+ * (JM_KERNEL_AVX2, cpu.h); where the CPU has AVX-512 two vertices
  * share one register, and where it has AVX2 alone a hand-written loop skips
  * the groups out of reach (jm_sph_normals): the same bits. */
 
@@ -59,7 +59,7 @@ void jm_sph_gather(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
 
 /* Outward normal from the gathered particles: groups of 8 (x8, y8, z8, w8),
  * eight lanes summed in a fixed order, so SSE and AVX builds agree. */
-JM_CLONES_AVX2 int jm_sph_normal(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3])
+JM_BODY int jm_sph_normal_body(const jm_config *c, const jm_soa *s, const float p[3], float nrm[3])
 {
     const float R2 = c->support * c->support, inv = 1.0f / c->sph_h;
     float gx[8] = {0}, gy[8] = {0}, gz[8] = {0};
@@ -78,6 +78,7 @@ JM_CLONES_AVX2 int jm_sph_normal(const jm_config *c, const jm_soa *s, const floa
     }
     return jm_normal_from_lanes8(gx, gy, gz, nrm);
 }
+JM_KERNEL_AVX2(, int, jm_sph_normal, jm_sph_normal_body, (const jm_config *c, const jm_soa *s, const float p[3], float nrm[3]), (c, s, p, nrm))
 
 #include "core/pair16.h"
 #ifdef JM_PAIR16

@@ -3,8 +3,8 @@
 #include "field/sph/cull.h"
 #include "core/cubic8.h"
 #include "core/round8.h"
+#include "core/cpu.h"
 #include <math.h>
-#include <pthread.h>
 #include <string.h>
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
@@ -128,7 +128,7 @@ INLINE int reaches(const jm_grid *g, uint32_t p, const float *q, const float box
  * (dyz2 < Rp^2), there on the window of nodes [ic - K, ic + K] around its
  * own, ic = floor(cx + 1/2), clipped to [i0, i1) (ROWP adds +0 to the other
  * lanes of its steps). Any subset of (particle, node) pairs gives a lower
- * bound (cull.c): the reach and the window are speed only. t[4] = wgt a1,
+ * bound (docs/culling.md, 3): the reach and the window are speed only. t[4] = wgt a1,
  * wgt b1 / sph_h^2, wgt a2, wgt b2 / sph_h^2, for s in world units. */
 #define PARTIAL_BODY(ROWP, PREP)                                                                               \
     const int ns = JM_PAD(n);                                                                              \
@@ -355,7 +355,7 @@ __attribute__((target("avx2"))) INLINE void rowp2_avx2(float *row, int two, __m2
  * nodes (PARTIAL_BODY), so one masked step covers it (masked loads: a window
  * may end within 16 lanes of its row's end), and its mask and (xp - qx)^2
  * are the same on every row of a particle: computed once per particle
- * (PREP_AVX512). Fused multiply-adds: the bound in cull.c holds for one
+ * (PREP_AVX512). Fused multiply-adds: the bound of docs/culling.md, 3, holds for one
  * rounding or two. */
 #define PREP_AVX512                                                                                        \
     const __mmask16 pm = (__mmask16)((1u << (b - a)) - 1u);                                                \
@@ -386,38 +386,23 @@ __attribute__((target("avx512f"))) static void partial_avx512(SAMPLE_ARGS)
 }
 
 typedef void (*sample_fn)(SAMPLE_ARGS);
-static sample_fn chosen[3]; /* every node, spans, partial sums */
-static pthread_once_t once = PTHREAD_ONCE_INIT;
-/* JM_SPLAT_VARIANT (a build option for tests): 0 the fastest the CPU runs,
- * 1 plain C, 2 SSE2, 3 AVX2 (where the CPU has it) */
-#ifndef JM_SPLAT_VARIANT
-#define JM_SPLAT_VARIANT 0
-#endif
-static void choose(void)
-{
-    __builtin_cpu_init();
-    static const sample_fn c_fns[3] = {sample_c, sample_c_span, partial_c};
-    static const sample_fn sse2[3] = {sample_sse2, sample_sse2_span, partial_sse2};
-    static const sample_fn avx2[3] = {sample_avx2, sample_avx2_span, partial_avx2};
-    static const sample_fn avx512[3] = {sample_avx512, sample_avx512_span, partial_avx512};
-    const sample_fn *f = __builtin_cpu_supports("avx2") ? avx2 : sse2;
-    if (__builtin_cpu_supports("avx512f") && JM_SPLAT_VARIANT != 3) f = avx512;
-    if (JM_SPLAT_VARIANT == 1) f = c_fns;
-    if (JM_SPLAT_VARIANT == 2) f = sse2;
-    memcpy(chosen, f, sizeof chosen);
-}
+/* per level of cpu.h: every node, spans, partial sums */
+static const sample_fn chosen[4][3] = {
+    {sample_c, sample_c_span, partial_c},
+    {sample_sse2, sample_sse2_span, partial_sse2},
+    {sample_avx2, sample_avx2_span, partial_avx2},
+    {sample_avx512, sample_avx512_span, partial_avx512},
+};
 
 void jm_sph_sample(SAMPLE_ARGS)
 {
-    pthread_once(&once, choose);
-    chosen[span != NULL](g, c, hood, x, y, z, n, span, pad);
+    chosen[jm_cpu_level()][span != NULL](g, c, hood, x, y, z, n, span, pad);
 }
 
 void jm_sph_partial(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
                     const float *z, int n, float *out)
 {
-    pthread_once(&once, choose);
-    chosen[2](g, c, hood, x, y, z, n, NULL, out);
+    chosen[jm_cpu_level()][2](g, c, hood, x, y, z, n, NULL, out);
 }
 #else
 void jm_sph_sample(SAMPLE_ARGS)

@@ -15,16 +15,14 @@ void jm_sph_sample(const jm_grid *g, const jm_config *c, const jm_hood *hood, co
 
 /* The partial sums count a particle's lower-bound terms on the rows within
  * JM_PART_REACH of its support radius, on a window of nodes about its own
- * (0.65 with the tangents of cull.h: 0.6 is 2-3 % faster on the blocks and
- * the dam break and bunny frames but 0.55 proves too few nodes of the
- * lattice block inside, and 0.65 keeps a margin from that cliff; 0.7 and
- * 0.76 measured slower). */
+ * (0.55 proves too few nodes of a lattice block inside; 0.65 keeps a margin
+ * from that cliff). Speed only. */
 #define JM_PART_REACH 0.65f
 /* Lower bounds into out (laid out as pad): each node gets a float sum of
  * terms max(0, JM_TAN_A1 - JM_TAN_B1 q^2, JM_TAN_A2 - JM_TAN_B2 q^2) times
  * the particle's weight, for some of the particles the sample adds there (q
  * their distance over sph_h): a node whose sum is above
- * jm_sph_partial_threshold samples above the threshold (cull.c). */
+ * jm_sph_partial_threshold samples above the threshold (docs/culling.md, 3). */
 void jm_sph_partial(const jm_grid *g, const jm_config *c, const jm_hood *hood, const float *x, const float *y,
                     const float *z, int n, float *out);
 #endif
