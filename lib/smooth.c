@@ -143,12 +143,14 @@ static jm_status smooth_positions(jm_mem *mem, jm_pool *pool, jm_post_scratch *s
     }
     job->band = band;
     float *tau = NULL;
-    const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau);
+    int cyc;
+    const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau, &cyc);
     if (nsteps < 0) st = JM_E_OUT_OF_MEMORY;
     for (int it = 0; it < nsteps; it++) {
         job->src = a;
         job->dst = b;
         job->tau = tau[it];
+        job->clamp = sm_plan_settled(it, nsteps, cyc, job->c->smooth_iters);
         sm_run_ranges(pool, job->nchunks, sm_step_task, job);
         float *t = a;
         a = b;

@@ -102,10 +102,13 @@ static void test_droplets_kept(void **state)
 }
 
 /* Balls packed at random (their truth a sphere), several seeds and sizes:
- * the radial deviation at most 0.6 of the raw mesh's (about half: the
- * band keeps the surface within 0.5 r of the particles' mesh, and a third
- * would take moves of 0.6 to 0.75 r), normals within 10 degrees of the
- * sphere's at the 95th percentile, the volume within 1 %. */
+ * the radial deviation at most 0.54 of the raw mesh's (0.49 to 0.53 with
+ * the band applied only after whole super time stepping cycles; 0.52 to
+ * 0.56 when it clamped within them. Issue 31 asks a third: these balls'
+ * deviation lies mostly at wavelengths of 8 to 14 r, which 25 iterations
+ * keep; a third takes about 100 plain steps and moves of 0.6 to 0.7 r),
+ * normals within 10 degrees of the sphere's at the 95th percentile, the
+ * volume within 1 %. */
 static void test_balls_smoothed(void **state)
 {
     (void)state;
@@ -139,7 +142,7 @@ static void test_balls_smoothed(void **state)
             mm_sphere(&a, lab, big, &sd1, &a1);
             printf("%s: radial sd %.3f r -> %.3f r (%.2f), normals p95 %.1f -> %.1f deg, volume %+.3f %%, p99 move "
                    "%.2f r\n", what, sd0 / R, sd1 / R, sd1 / sd0, a0, a1, 100 * (v1 - v0) / v0, d99 / R);
-            assert_true(sd1 <= 0.6 * sd0);
+            assert_true(sd1 <= 0.54 * sd0);
             assert_true(a1 <= 10.0);
             assert_true(fabs(v1 - v0) <= 0.01 * v0);
             free(pa);
