@@ -176,7 +176,7 @@ void sm_runs_free(jm_mem *mem, sm_runs *r);
  * by the caller; *cycle_steps: the steps of each super time stepping
  * cycle, 0 for none); returns their number, -1 when out of memory.
  * sm_plan_settled: whether the state after step it (of total) is a
- * smoothing, the end of a cycle or a plain step, not one within a cycle. */
+ * smoothing: 1 after a plain step, 2 at the end of a cycle, 0 within one. */
 int sm_plan(int n, jm_mem *mem, float **out, int *cycle_steps);
 int sm_plan_settled(int it, int total, int cycle_steps, int n);
 
@@ -186,6 +186,7 @@ void sm_step_task(void *arg, size_t chunk, int worker);
 /* smooth_volume.c */
 void sm_restore_volumes(jm_pool *pool, sm_job *job, const double *vol0, const double *thick, double *work);
 void sm_piece_volumes(jm_pool *pool, sm_job *job, const float *P, double *out);
+void sm_recentre(jm_pool *pool, sm_job *job, float *P, const double *vol0, double *work);
 
 /* smooth_guard.c: triangles of pos (the smoothed positions, 4 per vertex;
  * job->m->pos the raw ones) turned over by the smoothing: their corners

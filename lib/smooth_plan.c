@@ -67,5 +67,5 @@ int sm_plan(int n, jm_mem *mem, float **out, int *cycle_steps)
 int sm_plan_settled(int it, int total, int cycle_steps, int n)
 {
     const int plain = n <= PLAIN_END + 2 ? n : PLAIN_END;
-    return it >= total - plain || (cycle_steps > 0 && (it + 1) % cycle_steps == 0);
+    return it >= total - plain ? 1 : (cycle_steps > 0 && (it + 1) % cycle_steps == 0) ? 2 : 0;
 }

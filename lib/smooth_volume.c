@@ -95,3 +95,24 @@ void sm_restore_volumes(jm_pool *pool, sm_job *job, const double *vol0, const do
         sm_run_ranges(pool, job->nchunks, offset_task, job);
     }
 }
+
+/* At the end of a super time stepping cycle (smooth.c), before the band:
+ * the positions P (in place) moved along the raw normals by each piece's
+ * Newton offset toward its raw volume, then clamped into the band. The
+ * cycle shrinks a piece by its curvature (a ball of 15 r by about 0.2 r);
+ * clamped first, that shrinkage would take its share of the band. */
+void sm_recentre(jm_pool *pool, sm_job *job, float *P, const double *vol0, double *work)
+{
+    const size_t np = job->npieces;
+    double *s = work, *d = s + np;
+    sm_piece_volumes(pool, job, P, d);
+    for (size_t k = 0; k < np; k++) {
+        const double need = vol0[k] - d[3 * k], dv = need > 0.0 ? d[3 * k + 1] : d[3 * k + 2];
+        const double cap = (double)job->band[k];
+        s[k] = dv > 0.0 && need != 0.0 ? fmax(-cap, fmin(cap, need / dv)) : 0.0;
+    }
+    job->src = P;
+    job->dst = P;
+    job->shift = s;
+    sm_run_ranges(pool, job->nchunks, offset_task, job);
+}
