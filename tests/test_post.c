@@ -150,11 +150,12 @@ static void test_ball_orange_peel(void **state)
     double dv = (r1.volume - r0.volume) / r0.volume;
     printf("ball of %zu particles: radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, volume %+.2f %%\n", n,
            sd0 / R, sd1 / R, a0, a1, 100 * dv);
-    /* about half (0.48): no vertex moves more than 0.5 r along its normal
-     * and 25 iterations diffuse as splashsurf's 25 do (issue 31; the
-     * unbounded smoothing before reached a third by moving the surface up
-     * to 1.1 r and shrinking dense droplets to nothing) */
-    assert_true(sd1 <= 0.55 * sd0);
+    /* 0.44: no vertex moves more than 0.5 r along its normal and 25
+     * iterations diffuse as splashsurf's 25 do (issue 31; 0.48 while the
+     * band clamped within the super time stepping cycles; the unbounded
+     * smoothing before reached a third by moving the surface up to 1.1 r
+     * and shrinking dense droplets to nothing) */
+    assert_true(sd1 <= 0.46 * sd0);
     assert_true(a1 <= 10.0);
     assert_true(fabs(dv) <= 0.02);
     /* the same triangles: smoothing moves vertices only */
@@ -192,10 +193,10 @@ static void test_ball_orange_peel(void **state)
     dv = (v1[outer] - v0[outer]) / v0[outer];
     printf("metasphere ball (outer surface of %zu pieces): radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, "
            "volume %+.2f %%\n", nc, sd0 / R, sd1 / R, a0, a1, 100 * dv);
-    /* 0.53 and 12.7 degrees: the metasphere's bumps of 1.2 r need more
-     * than 25 iterations (50: 0.40, 7.6 degrees) */
-    assert_true(sd1 <= 0.6 * sd0);
-    assert_true(a1 <= 15.0);
+    /* 0.45 and 9.1 degrees (0.55 and 13.1 while the band clamped within
+     * the super time stepping cycles) */
+    assert_true(sd1 <= 0.5 * sd0);
+    assert_true(a1 <= 10.0);
     assert_true(fabs(dv) <= 0.02);
     free(v0);
     free(v1);

@@ -102,13 +102,15 @@ static void test_droplets_kept(void **state)
 }
 
 /* Balls packed at random (their truth a sphere), several seeds and sizes:
- * the radial deviation at most 0.6 of the raw mesh's (about half: the
- * band keeps the surface within 0.5 r of the particles' mesh, and a third
- * would take moves of 0.6 to 0.75 r), normals within 10 degrees of the
- * sphere's at the 95th percentile, the volume within 1 %. */
-static void test_balls_smoothed(void **state)
+ * the radial deviation at most 0.54 of the raw mesh's (0.49 to 0.53 with
+ * the band applied only after whole super time stepping cycles; 0.52 to
+ * 0.56 when it clamped within them. Issue 31 asks a third: these balls'
+ * deviation lies mostly at wavelengths of 8 to 14 r, which 25 iterations
+ * keep; a third takes about 100 plain steps and moves of 0.6 to 0.7 r),
+ * normals within 10 degrees of the sphere's at the 95th percentile, the
+ * volume within 1 %. */
+static void balls(int iters, double most)
 {
-    (void)state;
     const size_t sizes[3] = {600, 2000, 4000};
     for (int s = 0; s < 3; s++)
         for (uint64_t seed = 1; seed <= 2; seed++) {
@@ -120,11 +122,11 @@ static void test_balls_smoothed(void **state)
             p.method = JM_METHOD_MC;
             test_mesh raw, sm;
             mesh_with(&pts, p, &raw);
-            p.smooth_iterations = 25;
+            p.smooth_iterations = iters;
             p.smooth_normal_iterations = 10;
             mesh_with(&pts, p, &sm);
             char what[64];
-            snprintf(what, sizeof what, "ball of %zu (seed %d)", pts.count, (int)seed);
+            snprintf(what, sizeof what, "ball of %zu (seed %d), --smooth %d", pts.count, (int)seed, iters);
             double d99;
             check_common(what, &raw, &sm, 0.6 * R, &d99);
             mm_mesh a = view(&sm), b = view(&raw);
@@ -139,7 +141,7 @@ static void test_balls_smoothed(void **state)
             mm_sphere(&a, lab, big, &sd1, &a1);
             printf("%s: radial sd %.3f r -> %.3f r (%.2f), normals p95 %.1f -> %.1f deg, volume %+.3f %%, p99 move "
                    "%.2f r\n", what, sd0 / R, sd1 / R, sd1 / sd0, a0, a1, 100 * (v1 - v0) / v0, d99 / R);
-            assert_true(sd1 <= 0.6 * sd0);
+            assert_true(sd1 <= most * sd0);
             assert_true(a1 <= 10.0);
             assert_true(fabs(v1 - v0) <= 0.01 * v0);
             free(pa);
@@ -150,11 +152,29 @@ static void test_balls_smoothed(void **state)
         }
 }
 
+static void test_balls_smoothed(void **state)
+{
+    (void)state;
+    balls(25, 0.54);
+}
+
+/* More iterations smooth more: --smooth 100 takes the balls to 0.33 to 0.46
+ * of the raw deviation (the smallest, of radius 10 r, held by the band).
+ * The super time stepping cycles shrink a piece by its curvature; its volume
+ * is restored between them (smooth_volume.c), or the shrinkage would fill
+ * the band and the smaller balls come out rougher than with 25. */
+static void test_balls_smoothed_more(void **state)
+{
+    (void)state;
+    balls(100, 0.47);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_droplets_kept),
         cmocka_unit_test(test_balls_smoothed),
+        cmocka_unit_test(test_balls_smoothed_more),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

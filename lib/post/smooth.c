@@ -143,13 +143,20 @@ static jm_status smooth_positions(jm_mem *mem, jm_pool *pool, jm_post_scratch *s
     }
     job->band = band;
     float *tau = NULL;
-    const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau);
+    int cyc;
+    const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau, &cyc);
     if (nsteps < 0) st = JM_E_OUT_OF_MEMORY;
     for (int it = 0; it < nsteps; it++) {
         job->src = a;
         job->dst = b;
         job->tau = tau[it];
+        /* the band after each plain step and each cycle; between cycles each
+         * piece's volume first (its shrinkage adds up over several) */
+        const int settled = sm_plan_settled(it, nsteps, cyc, job->c->smooth_iters);
+        const int recentre = settled == 2 && sm_plan_settled(it + cyc, nsteps, cyc, job->c->smooth_iters) == 2;
+        job->clamp = settled && !recentre;
         sm_run_ranges(pool, job->nchunks, sm_step_task, job);
+        if (recentre) sm_recentre(pool, job, b, vol0, work);
         float *t = a;
         a = b;
         b = t;

@@ -121,6 +121,7 @@ typedef struct sm_job {
     const float *band;    /* per piece: the largest |t| (smooth.c) */
     int normalise;        /* smooth_normals.c's last pass: make the normals unit */
     float tau;            /* this step's size (smooth_plan.c) */
+    int clamp;            /* this step ends in the band (sm_plan_settled) */
     int failed;
 } sm_job;
 
@@ -167,8 +168,12 @@ void sm_runs_total(const sm_runs *r, int nsums, double *piece_sums, size_t npiec
 void sm_runs_free(jm_mem *mem, sm_runs *r);
 
 /* smooth_plan.c: the step sizes of n iterations (*out, jm_alloc'ed, freed
- * by the caller); returns their number, -1 when out of memory. */
-int sm_plan(int n, jm_mem *mem, float **out);
+ * by the caller; *cycle_steps: the steps of each super time stepping
+ * cycle, 0 for none); returns their number, -1 when out of memory.
+ * sm_plan_settled: whether the state after step it (of total) is a
+ * smoothing: 1 after a plain step, 2 at the end of a cycle, 0 within one. */
+int sm_plan(int n, jm_mem *mem, float **out, int *cycle_steps);
+int sm_plan_settled(int it, int total, int cycle_steps, int n);
 
 /* smooth_steps.c: one bounded step of size job->tau, job->src to job->dst. */
 void sm_step_task(void *arg, size_t chunk, int worker);
@@ -176,6 +181,7 @@ void sm_step_task(void *arg, size_t chunk, int worker);
 /* smooth_volume.c */
 void sm_restore_volumes(jm_pool *pool, sm_job *job, const double *vol0, const double *thick, double *work);
 void sm_piece_volumes(jm_pool *pool, sm_job *job, const float *P, double *out);
+void sm_recentre(jm_pool *pool, sm_job *job, float *P, const double *vol0, double *work);
 
 /* smooth_guard.c: triangles of pos (the smoothed positions, 4 per vertex;
  * job->m->pos the raw ones) turned over by the smoothing: their corners

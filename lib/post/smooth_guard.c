@@ -8,9 +8,10 @@
  * over, a slit that renders as a dark line. After the smoothing, every
  * vertex of a triangle whose normal now points against its raw normal goes
  * halfway back to its raw position, up to six times (halfway back stays
- * within the band). The first check runs over every vertex in parallel;
- * the later ones, one at a time, only over the vertices moved back and
- * their neighbours (only their triangles changed).
+ * within the band). The first check tests every triangle once, at its
+ * smallest vertex, in parallel, then flags the other corners of the few
+ * turned; the later checks, one at a time, run only over the vertices
+ * moved back and their neighbours (only their triangles changed).
  */
 #define GUARD_PASSES 6
 
@@ -48,6 +49,29 @@ static inline int turned(const guard_job *g, size_t v, size_t *kb)
     return 0;
 }
 
+/* How many triangles of v's fan whose smallest vertex is v (it owns them)
+ * are turned over: every triangle is tested once. */
+static inline uint32_t turned_owned(const guard_job *g, size_t v, size_t *kb)
+{
+    const sm_fan *f = &g->job->f;
+    const uint32_t d = f->deg[v];
+    const uint32_t *nq = d <= 8 ? &f->nb8[8 * v] : &f->bnb[f->bstart[*kb]];
+    const uint32_t *nr = d <= 8 ? &f->nc8[8 * v] : &f->bnc[f->bstart[*kb]];
+    const uint32_t sh = d <= 8;
+    if (d > 8) ++*kb;
+    const v4f p = sm_load4(&g->pos[4 * v]), p0 = sm_load3(&g->raw[3 * v]);
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < d; i++) {
+        const size_t q = nq[i] >> sh, r = nr[i] >> sh;
+        if (q < v || r < v) continue;
+        const v4f e = cross4(sm_load4(&g->pos[4 * q]) - p, sm_load4(&g->pos[4 * r]) - p);
+        const v4f e0 = cross4(sm_load3(&g->raw[3 * q]) - p0, sm_load3(&g->raw[3 * r]) - p0);
+        n += sm_dot3(e, e0) < 0.0f;
+    }
+    return n;
+}
+
+/* Per vertex: 1 when a triangle it owns (turned_owned) is turned over. */
 JM_SM_CLONES static void flag_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
@@ -57,10 +81,30 @@ JM_SM_CLONES static void flag_task(void *arg, size_t chunk, int worker)
     size_t k = sm_lower_bound(f->big, f->nbig, a);
     uint32_t n = 0;
     for (size_t v = a; v < b; v++) {
-        g->flag[v] = (uint8_t)turned(g, v, &k);
+        g->flag[v] = turned_owned(g, v, &k) > 0;
         n += g->flag[v];
     }
     g->count[chunk] = n;
+}
+
+/* The other corners of the turned triangles of owner v flagged too (2:
+ * not an owner's mark; they are larger than v). */
+static void flag_corners(guard_job *g, size_t v)
+{
+    const sm_fan *f = &g->job->f;
+    const uint32_t d = f->deg[v];
+    size_t kb = d > 8 ? sm_lower_bound(f->big, f->nbig, v) : 0;
+    const uint32_t *nq = d <= 8 ? &f->nb8[8 * v] : &f->bnb[f->bstart[kb]];
+    const uint32_t *nr = d <= 8 ? &f->nc8[8 * v] : &f->bnc[f->bstart[kb]];
+    const uint32_t sh = d <= 8;
+    const v4f p = sm_load4(&g->pos[4 * v]), p0 = sm_load3(&g->raw[3 * v]);
+    for (uint32_t i = 0; i < d; i++) {
+        const size_t q = nq[i] >> sh, r = nr[i] >> sh;
+        if (q < v || r < v) continue;
+        const v4f e = cross4(sm_load4(&g->pos[4 * q]) - p, sm_load4(&g->pos[4 * r]) - p);
+        const v4f e0 = cross4(sm_load3(&g->raw[3 * q]) - p0, sm_load3(&g->raw[3 * r]) - p0);
+        if (sm_dot3(e, e0) < 0.0f) g->flag[q] |= 2, g->flag[r] |= 2;
+    }
 }
 
 static void back(guard_job *g, size_t v)
@@ -102,7 +146,7 @@ static size_t recheck(guard_job *g, uint32_t *list, size_t n, uint32_t *cand, ui
 jm_status sm_guard_folds(jm_pool *pool, sm_job *job, float *pos)
 {
     const size_t nv = job->nv;
-    guard_job g = {job, pos, job->m->pos, jm_calloc(job->mem, nv + 1, 1),
+    guard_job g = {job, pos, job->m->pos, jm_alloc(job->mem, nv + 1),
                    jm_alloc(job->mem, job->nchunks * sizeof(uint32_t) + 1)};
     uint8_t *mark = NULL;
     uint32_t *list = NULL, *cand = NULL;
@@ -112,13 +156,15 @@ jm_status sm_guard_folds(jm_pool *pool, sm_job *job, float *pos)
     size_t n = 0;
     for (size_t c = 0; c < job->nchunks; c++) n += g.count[c];
     if (n == 0) goto out;
+    for (size_t v = 0; v < nv; v++)
+        if (g.flag[v] & 1) flag_corners(&g, v);
     mark = jm_calloc(job->mem, nv + 1, 1);
     list = jm_alloc(job->mem, (nv + 1) * sizeof *list);
     cand = jm_alloc(job->mem, (nv + 1) * sizeof *cand);
     if (!mark || !list || !cand) { st = JM_E_OUT_OF_MEMORY; goto out; }
     n = 0;
     for (size_t v = 0; v < nv; v++)
-        if (g.flag[v]) list[n++] = (uint32_t)v;
+        if (g.flag[v]) g.flag[v] = 1, list[n++] = (uint32_t)v;
     for (int pass = 0; pass < GUARD_PASSES && n > 0; pass++) n = recheck(&g, list, n, cand, mark);
 out:
     jm_free(job->mem, g.flag, nv + 1);

@@ -161,7 +161,8 @@ jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *jo
         widen(a, job->m->nrm, nv);
         widen(b, job->m->nrm, nv);
         float *tau = NULL;
-        const int nsteps = sm_plan(niters, mem, &tau); /* in fewer passes, as the positions */
+        int cyc;
+        const int nsteps = sm_plan(niters, mem, &tau, &cyc); /* in fewer passes, as the positions */
         if (nsteps < 0) return JM_E_OUT_OF_MEMORY;
         job->src = a;
         sm_run_ranges(pool, job->nchunks, nmask_task, &nj);

@@ -13,7 +13,10 @@
  * frequencies the cycles leave, which matter to the shading), the rest in
  * the fewest cycles of at most 10 steps, each cycle's sizes scaled down to
  * its share. So --smooth 25 makes 9 passes that smooth as much as 25
- * plain steps, splashsurf's 25 iterations in bulk fluid.
+ * plain steps, splashsurf's 25 iterations in bulk fluid. Only the state
+ * after a whole cycle (and after each plain step) is a smoothing of the
+ * mesh: within a cycle some modes are amplified, so the bounded smoothing
+ * clamps only there (sm_plan_settled).
  */
 #define STS_NU 0.02
 #define STS_KMAX 10
@@ -30,9 +33,10 @@ static double cycle(int k, double *t)
     return sum;
 }
 
-int sm_plan(int n, jm_mem *mem, float **out)
+int sm_plan(int n, jm_mem *mem, float **out, int *cycle_steps)
 {
     *out = NULL;
+    *cycle_steps = 0;
     if (n <= 0) return 0;
     double t[STS_KMAX];
     const double tmax = cycle(STS_KMAX, t);
@@ -56,5 +60,12 @@ int sm_plan(int n, jm_mem *mem, float **out)
     }
     while (o < total) tau[o++] = 1.0f;
     *out = tau;
+    *cycle_steps = cycles ? k : 0;
     return total;
+}
+
+int sm_plan_settled(int it, int total, int cycle_steps, int n)
+{
+    const int plain = n <= PLAIN_END + 2 ? n : PLAIN_END;
+    return it >= total - plain ? 1 : (cycle_steps > 0 && (it + 1) % cycle_steps == 0) ? 2 : 0;
 }

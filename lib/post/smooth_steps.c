@@ -5,9 +5,13 @@
  * A step moves every vertex to the mean of its neighbours (Laplacian
  * smoothing with the full step, as splashsurf's weighted smoothing takes
  * in bulk fluid; Löschner et al. 2023), all at once from the previous
- * positions (Jacobi: no dependence on the order or the threads). Then t,
- * the vertex's displacement from its raw position along its raw unit
- * normal, is clamped to the band [-b, b] (b = 0.5 r, smooth.c): bumps of
+ * positions (Jacobi: no dependence on the order or the threads). Then,
+ * after a whole super time stepping cycle and after each plain step
+ * (within a cycle some modes are amplified: a clamp there would hang on
+ * how the marching cubes cut the bumps, and the mesh of a translated input
+ * would not be a translated copy, issue 31), t, the vertex's displacement
+ * from its raw position along its raw unit normal, is clamped to the band
+ * [-b, b] (b = 0.5 r, smooth.c): bumps of
  * the particles' size go, the surface stays within half a radius of where
  * the particles put it (a droplet, a crest, a ripple higher than that
  * keeps its shape). The move along the surface is free: it evens the
@@ -42,7 +46,7 @@ static void step_one(const sm_job *job, size_t v)
         }
         p += job->tau * (sum * job->f.inv[v] - p);
         p[3] = 1.0f;
-        p = into_band(p, n, job->band[job->comp[v]]);
+        if (job->clamp) p = into_band(p, n, job->band[job->comp[v]]);
     }
     sm_store4(&job->dst[4 * v], p);
 }
@@ -59,7 +63,12 @@ JM_SM_CLONES void sm_step_task(void *arg, size_t chunk, int worker)
     const uint32_t *nb8 = job->f.nb8;
     const sm_runs *r = &job->runs;
     float *D = job->dst;
-    for (uint32_t k = r->chunk_run[chunk]; k < r->chunk_run[chunk + 1]; k++) {
+    if (!job->clamp) /* within a super time stepping cycle: no band (smooth_plan.c) */
+        for (size_t v = chunk * SM_CH, e = v + SM_CH < job->nv ? v + SM_CH : job->nv; v < e; v++) {
+            v4f p = sm_load4(&S[4 * v]);
+            sm_store4(&D[4 * v], p + job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p));
+        }
+    for (uint32_t k = r->chunk_run[chunk]; job->clamp && k < r->chunk_run[chunk + 1]; k++) {
         const float b = job->band[r->piece[k]];
         for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
             v4f p = sm_load4(&S[4 * v]);
