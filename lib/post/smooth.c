@@ -25,33 +25,6 @@
 #define SM_BAND 0.5f /* the band's half width, in r: the most a vertex moves along its raw normal */
 #define SM_THIN 0.25 /* ... and at most this times its piece's thickness 3 V / A (a jet's column, a pair) */
 
-void sm_run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, void *arg)
-{
-    /* each thread one contiguous range, the same every pass: the lines a
-     * thread wrote stay in its cache for the next pass (chunks handed out
-     * as they come made 2 threads no faster than one); any split gives the
-     * same result */
-    const size_t t = (size_t)jm_pool_threads(pool);
-    jm_pool_run(pool, nchunks, (nchunks + t - 1) / t, fn, arg);
-}
-
-void *sm_scratch(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes)
-{
-    if (bytes == 0) bytes = 1;
-    if (s->bytes[k] >= bytes) return s->p[k];
-    size_t want = bytes + bytes / 4;
-    jm_free(mem, s->p[k], s->bytes[k]);
-    s->p[k] = jm_alloc_lasting(mem, want);
-    s->bytes[k] = s->p[k] ? want : 0;
-    return s->p[k];
-}
-
-void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem)
-{
-    for (int k = 0; k < JM_POST_BUFS; k++) jm_free(mem, s->p[k], s->bytes[k]);
-    memset(s, 0, sizeof *s);
-}
-
 /* The pieces: labels in vertex order (a root is the piece's smallest
  * vertex: the cavity pass's roots when it hands them over). */
 static size_t label_pieces(jm_pool *pool, const jm_post_mesh *m, size_t nv, uint32_t *comp)

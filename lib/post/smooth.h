@@ -153,8 +153,8 @@ static inline v4f sm_fan_area(const sm_job *job, const float *P, size_t v, size_
     return n;
 }
 
-/* A pass over the chunks, each thread the same contiguous range every pass
- * (the lines it wrote stay in its cache). */
+/* smooth_scratch.c: a pass over the chunks, each thread the same contiguous
+ * range every pass (the lines it wrote stay in its cache). */
 void sm_run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, void *arg);
 
 /* smooth_fans.c */
@@ -191,12 +191,12 @@ jm_status sm_guard_folds(jm_pool *pool, sm_job *job, float *pos);
 /* smooth_normals.c */
 jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *job, const float *pos, int want_nrm);
 
-/* smooth.c: buffer k of the scratch with room for at least `bytes`. */
+/* smooth_scratch.c: buffer k of the scratch with room for at least `bytes`. */
 void *sm_scratch(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes);
 enum { SB_DEG, SB_INV, SB_NB8, SB_NC8, SB_BIG, SB_BNB, SB_A, SB_B, SB_DIR, SB_COMP, SB_ODD, SB_PIECE, SB_KEEP,
        SB_FLAG, SB_COUNT };
 _Static_assert(SB_COUNT == JM_POST_BUFS, "the scratch has a buffer per SB_ name");
-/* The post-processing's working arrays given back (smooth.c). */
+/* The post-processing's working arrays given back (smooth_scratch.c). */
 void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem);
 
 /* Smooths the lattice part of m (smooth.c): c->smooth_iters steps of
