@@ -9,13 +9,13 @@
 #include "../formats/reader.h"
 #include "../formats/writer.h"
 #include "../lib/jetmesh.h"
+#include "option_common.h"
 #include "sequence.h"
 #include "shard.h"
 
 /* What a parse function returns. */
 #define OPTIONS_RUN 0   /* go on */
 #define OPTIONS_DONE -1 /* --help or --version was printed: exit 0 */
-#define OPTIONS_USAGE 2 /* a usage error was printed: exit 2 */
 
 typedef struct convert_options {
     jm_params params;        /* radius, cube size, field, ... (0 = default) */
@@ -70,18 +70,9 @@ int options_parse_generate(int argc, char **argv, generate_options *o);
 void options_convert_help(FILE *f);
 void options_generate_help(FILE *f);
 
-/** Parses a size: a number of bytes with an optional K, M, G or T suffix
- *  (powers of 1024; "B"/"iB" may follow): "2G", "500M", "1.5GiB".
- *  0 on success, -1 if malformed. */
-int options_parse_size(const char *s, size_t *out);
 
 /** The default --max-memory: half the physical memory (0 if unknown). */
 size_t options_default_max_memory(void);
 
-/** Prints "jetmesh CMD: message" and the --help hint on stderr; returns OPTIONS_USAGE. */
-#if defined(__GNUC__)
-__attribute__((format(printf, 2, 3)))
-#endif
-int options_usage_error(const char *cmd, const char *fmt, ...);
 
 #endif
