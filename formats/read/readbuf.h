@@ -119,7 +119,7 @@ int jmr_parse_double(const char *s, size_t n, double *out);
 /** Parses s[0..n) entirely as an unsigned decimal integer; 0 if not one or it overflows. */
 int jmr_parse_size(const char *s, size_t n, size_t *out);
 
-/* ---- the points being read ---- */
+/* ---- the points being read (read_points.c) ---- */
 typedef struct jmr_points {
     float *xyz;
     uint32_t *ids;      /* NULL unless jmr_points_want_ids() was called */
