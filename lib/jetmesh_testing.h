@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-/* ---- the vector kernels (lib/cpu.c, the library's one CPU dispatch) */
+/* ---- the vector kernels (lib/core/cpu.c, the library's one CPU dispatch) */
 enum {
     JM_TESTING_CPU_PLAIN = 0,  /* plain C */
     JM_TESTING_CPU_SSE2 = 1,   /* 4 lanes */
@@ -26,7 +26,7 @@ enum {
  * (-1: the CPU's best again) and returns the level that will run (a level
  * above the CPU's runs the CPU's). Every path gives the same bits, so the
  * meshes must not change (tests/t_splat_variants.sh; the CLI reads
- * JETMESH_TESTING_CPU). Only grid.c's densities and the smoothing's tasks,
+ * JETMESH_TESTING_CPU). Only grid/density.c's densities and the smoothing's tasks,
  * GCC target_clones, keep the loader's choice. Under a forced level the
  * metasphere finish also starts its triangle lists small, to run their
  * overflow path. */
@@ -41,7 +41,7 @@ const char *jm_testing_cpu_name(void);
  * Kept in jm_params' reserved slot, where a zeroed struct leaves it off. */
 static inline void jm_testing_no_culling(jm_params *p, int on) { p->reserved0 = on; }
 
-/* ---- the SPH grid's memory (lib/grid.c) */
+/* ---- the SPH grid's memory (lib/grid/release.c) */
 /* key_order 0 numbers an SPH grid's cells by first appearance (no release
  * possible); release 0 turns the release of particles behind the block
  * sweep off, 2 makes released pages unreadable (a read faults) until the
