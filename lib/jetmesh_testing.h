@@ -26,8 +26,7 @@ enum {
  * (-1: the CPU's best again) and returns the level that will run (a level
  * above the CPU's runs the CPU's). Every path gives the same bits, so the
  * meshes must not change (tests/t_splat_variants.sh; the CLI reads
- * JETMESH_TESTING_CPU). Only grid/density.c's densities and the smoothing's tasks,
- * GCC target_clones, keep the loader's choice. Under a forced level the
+ * JETMESH_TESTING_CPU). Under a forced level the
  * metasphere finish also starts its triangle lists small, to run their
  * overflow path. */
 int jm_testing_force_cpu(int level);

@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_splat_variants.sh - every vector level of the one CPU dispatch (plain C, SSE2, AVX2, AVX-512: the field kernels, the interior proofs, the metasphere's probe, normals and finish, the interpolated attributes) and the build without the compiler's clones give byte-identical meshes.
+# t_splat_variants.sh - every vector level of the one CPU dispatch (plain C, SSE2, AVX2, AVX-512: the field kernels, the interior proofs, the metasphere's probe, normals and finish, the interpolated attributes) and the build with the plain kernels only give byte-identical meshes.
 set -e
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root"
@@ -48,8 +48,8 @@ for l in 0 1 2 3; do
   mesh "level$l" env JETMESH_TESTING_CPU=$l "$J"
   same "level$l"
 done
-# the compiler's clones (target_clones, chosen by the loader): the library
-# built without them, linked with the main build's CLI and formats
+# the library built with the plain kernels only (-DJM_NO_CLONES, as the
+# ThreadSanitizer build is), linked with the main build's CLI and formats
 make --no-print-directory -j2 BUILD=build-noclones CFLAGS=-DJM_NO_CLONES build-noclones/libjetmesh.a >/dev/null
 ${CC:-cc} -o build-noclones/jetmesh $(find "$B/cli" -name '*.o' | sort) "$B/libjetmesh_formats.a" \
   build-noclones/libjetmesh.a $(make --no-print-directory -s print-libs)

@@ -66,21 +66,4 @@ int jm_cpu_forced(void);
 #define JM_KERNEL_512 JM_KERNEL_AVX2
 #endif
 
-/* Loops the compiler builds for several targets, chosen by the loader
- * (GCC's target_clones) and not by the level: grid.c's densities and the
- * smoothing's tasks (smooth.h) only. The same operations, so the same bits,
- * on every target; JM_NO_CLONES builds the plain ones (tests/
- * t_splat_variants.sh compares that build's meshes). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(JM_NO_CLONES)
-#define JM_CLONES_AVX2 __attribute__((target_clones("avx2", "default")))
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-#define JM_CLONES_512_AVX2 __attribute__((target_clones("avx512f", "avx2", "default")))
-#endif
-#endif
-#ifndef JM_CLONES_AVX2
-#define JM_CLONES_AVX2
-#endif
-#ifndef JM_CLONES_512_AVX2
-#define JM_CLONES_512_AVX2
-#endif
 #endif

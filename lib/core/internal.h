@@ -141,7 +141,7 @@ static inline float jm_cubic_dw(float q) /* d/dq of jm_cubic_w */
     b = b > 0.0f ? b : 0.0f;
     return -0.75f * a * a + 3.0f * b * b;
 }
-#include "core/cpu.h" /* the CPU dispatch: jm_cpu_level, JM_KERNEL_*, JM_CLONES_AVX2 */
+#include "core/cpu.h" /* the CPU dispatch: jm_cpu_level, JM_KERNEL_* */
 /* The outward unit normal from a field gradient summed in 8 lanes (gx[l],
  * gy[l], gz[l]): minus their sum in lane order, normalised; 0 if it
  * vanishes or is not finite (nrm untouched). */

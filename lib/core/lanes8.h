@@ -6,7 +6,7 @@
 #include <string.h>
 
 /* Only for static functions inlined into one caller (cloned per CPU with
- * JM_KERNEL_AVX2 or JM_CLONES_AVX2): a vector never crosses a function's boundary, so the
+ * JM_KERNEL_*): a vector never crosses a function's boundary, so the
  * note GCC gives about their ABI without AVX is moot (the Makefile passes
  * -Wno-psabi to the files that include this). No contraction into fused
  * multiply-adds: ISO C mode. */

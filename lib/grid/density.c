@@ -41,13 +41,10 @@ __attribute__((target("avx2"))) static void dens_avx2(const float *xs, const flo
 /* Densities: the neighbours of a cell are copied once into structure-of-
  * arrays form (padded to 8 with far-away points), then each particle sums
  * its kernel over them in 8 lanes added in a fixed order. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-/* the 8 lanes in one AVX2 or AVX-512 register where the CPU has them: the
- * same operations per lane in the same order (no FMA: ISO C mode keeps
- * -ffp-contract=off), so the same bits on every machine */
-JM_CLONES_512_AVX2
-#endif
-static void sph_cell(void *arg, size_t ci, int worker)
+/* the 8 lanes in one AVX2 or AVX-512 register where the CPU has them (the
+ * level of core/cpu.h): the same operations per lane in the same order (no
+ * FMA: ISO C mode keeps -ffp-contract=off), so the same bits on every machine */
+JM_BODY void sph_cell_body(void *arg, size_t ci, int worker)
 {
     jm_nb_job *job = arg;
     jm_grid *g = job->g;
@@ -140,6 +137,7 @@ static void sph_cell(void *arg, size_t ci, int worker)
     g->cell_wsum[ci] = ws;
     g->cell_live[ci] = live;
 }
+JM_KERNEL_V4(static, void, sph_cell, sph_cell_body, (void *arg, size_t ci, int worker), (arg, ci, worker))
 
 jm_status jm_grid_densities(jm_nb_job *job, jm_pool *pool, size_t most)
 {

@@ -42,7 +42,7 @@ static size_t label_pieces(jm_pool *pool, const jm_post_mesh *m, size_t nv, uint
 /* Each vertex's raw frame from the raw positions job->src (4 per vertex):
  * its unit fan normal n and -x0 . n, or 0 without a normal; per run the
  * volume sum (p - o) . A (smooth_volume.c) and the sum of |A|. */
-JM_SM_CLONES static void frame_task(void *arg, size_t chunk, int worker)
+JM_BODY void frame_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
@@ -67,6 +67,7 @@ JM_SM_CLONES static void frame_task(void *arg, size_t chunk, int worker)
         r->sum[SM_RUN_SUMS * k + 1] = area;
     }
 }
+JM_KERNEL_AVX2(static, void, frame_task, frame_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* The positions: c->smooth_iters iterations of bounded steps, then the
  * volume restoration, into m->pos; the result also in *out (4 per vertex). */

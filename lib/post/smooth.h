@@ -4,10 +4,6 @@
 #include "post/post_mesh.h"
 #include <string.h>
 
-/* The tasks' loops cloned for AVX2 (three-operand instructions), chosen at
- * load time (cpu.h's JM_CLONES_AVX2; JM_NO_CLONES builds the plain ones). */
-#define JM_SM_CLONES JM_CLONES_AVX2
-
 #define SM_CH 2048 /* vertices per task: fixed, so every sum is the same whatever the threads */
 
 /* Positions, directions and normals while they are worked on: 4 floats per

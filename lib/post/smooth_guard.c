@@ -72,7 +72,7 @@ static inline uint32_t turned_owned(const guard_job *g, size_t v, size_t *kb)
 }
 
 /* Per vertex: 1 when a triangle it owns (turned_owned) is turned over. */
-JM_SM_CLONES static void flag_task(void *arg, size_t chunk, int worker)
+JM_BODY void flag_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     guard_job *g = arg;
@@ -86,6 +86,7 @@ JM_SM_CLONES static void flag_task(void *arg, size_t chunk, int worker)
     }
     g->count[chunk] = n;
 }
+JM_KERNEL_AVX2(static, void, flag_task, flag_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* The other corners of the turned triangles of owner v flagged too (2:
  * not an owner's mark; they are larger than v). */

@@ -4,7 +4,7 @@
 
 /* Each normal: the fan's area vector of the smoothed surface (job->src)
  * made unit, or the field's normal where the fan has no area. */
-JM_SM_CLONES static void fan_normal_task(void *arg, size_t chunk, int worker)
+JM_BODY void fan_normal_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
@@ -16,6 +16,7 @@ JM_SM_CLONES static void fan_normal_task(void *arg, size_t chunk, int worker)
         if (l > 0.0f) sm_store3(&job->m->nrm[3 * v], n / l);
     }
 }
+JM_KERNEL_AVX2(static, void, fan_normal_task, fan_normal_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* Normal smoothing's neighbours, chosen once from the normals before its
  * first step (job->src, 4 floats per vertex): one counts when it faces
@@ -30,7 +31,7 @@ typedef struct nm_job {
     uint8_t *bflag;
 } nm_job;
 
-JM_SM_CLONES static void nmask_task(void *arg, size_t chunk, int worker)
+JM_BODY void nmask_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     nm_job *nj = arg;
@@ -64,10 +65,11 @@ JM_SM_CLONES static void nmask_task(void *arg, size_t chunk, int worker)
         job->f.inv[v] = 1.0f / (float)k;
     }
 }
+JM_KERNEL_AVX2(static, void, nmask_task, nmask_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* One step of size job->tau toward the mean of the vertex's normal and
  * those nmask_task chose (directions only; made unit at the end). */
-JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
+JM_BODY void nstep_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     nm_job *nj = arg;
@@ -90,6 +92,7 @@ JM_SM_CLONES static void nstep_task(void *arg, size_t chunk, int worker)
         sm_store4(&D[4 * v], n + tau * (t * ninv[v] - n));
     }
 }
+JM_KERNEL_AVX2(static, void, nstep_task, nstep_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* n / |n|, or the fallback where |n| is 0 (one division for the three). */
 static inline v4f unit3(v4f n, v4f fallback)

@@ -55,7 +55,7 @@ static void step_one(const sm_job *job, size_t v)
  * vertex (1 to 8 neighbours, a raw normal) in straight-line code, its
  * row's 8 slots summed (the -0 sentinel adds nothing), then the odd ones
  * again one by one. */
-JM_SM_CLONES void sm_step_task(void *arg, size_t chunk, int worker)
+JM_BODY void sm_step_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
@@ -80,3 +80,4 @@ JM_SM_CLONES void sm_step_task(void *arg, size_t chunk, int worker)
     for (size_t i = sm_lower_bound(job->odd, job->nodd, a); i < job->nodd && job->odd[i] < e; i++)
         step_one(job, job->odd[i]);
 }
+JM_KERNEL_AVX2(, void, sm_step_task, sm_step_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))

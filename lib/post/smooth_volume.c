@@ -5,7 +5,7 @@
  * vector; the triangles' a . N / 3 regrouped by vertex, / 9 in the total;
  * o its piece's origin, job->origin), and the derivative of the volume
  * along the raw normals over the vertices free to grow and to shrink. */
-JM_SM_CLONES static void volume_task(void *arg, size_t chunk, int worker)
+JM_BODY void volume_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
@@ -29,6 +29,7 @@ JM_SM_CLONES static void volume_task(void *arg, size_t chunk, int worker)
         r->sum[SM_RUN_SUMS * k + 2] = shrink;
     }
 }
+JM_KERNEL_AVX2(static, void, volume_task, volume_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* The pieces' volumes of the positions P: 3 doubles per piece in out, the
  * volume and its derivatives along the raw normals over the vertices free
@@ -48,7 +49,7 @@ void sm_piece_volumes(jm_pool *pool, sm_job *job, const float *P, double *out)
 /* The restored positions job->dst from the smoothed job->src: each vertex
  * moved along its raw normal by its piece's offset job->shift, its t kept
  * within its piece's band. */
-JM_SM_CLONES static void offset_task(void *arg, size_t chunk, int worker)
+JM_BODY void offset_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
@@ -64,6 +65,7 @@ JM_SM_CLONES static void offset_task(void *arg, size_t chunk, int worker)
         sm_store4(&job->dst[4 * v], p);
     }
 }
+JM_KERNEL_AVX2(static, void, offset_task, offset_task_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* A first Newton step s this small against the piece's thickness R (3 V /
  * A, a ball's radius) leaves an error of about 3 (s / R)^2 of its volume,
