@@ -56,3 +56,18 @@ void jm_vertex_part_box(const jm_config *c, int S, int q, const float lo[3], con
         phi[a] += 0.01f * c->support;
     }
 }
+
+int jm_vertex_parts_normals(const jm_block_env *env, jm_scratch *s, const float lo[3], const float hi[3], jm_bout *out,
+                            jm_part_normals_fn part)
+{
+    uint32_t start[65];
+    const int S = jm_vertex_parts(env->c, s, lo, hi, out, start);
+    if (!S) return 0;
+    for (int q = 0; q < S * S * S; q++) {
+        if (start[q] == start[q + 1]) continue;
+        float plo[3], phi[3];
+        jm_vertex_part_box(env->c, S, q, lo, hi, plo, phi);
+        if (!part(env, s, plo, phi, s->order + start[q], start[q + 1] - start[q], out)) return 0;
+    }
+    return 1;
+}

@@ -62,23 +62,22 @@ static const float *sample(const jm_block_env *env, jm_scratch *s, int n, const 
     return s->pad;
 }
 
+/* The kernels' normals at a part's vertices from the kernels near it. */
+static int part_normals(const jm_block_env *env, jm_scratch *s, const float plo[3], const float phi[3],
+                        const uint32_t *order, uint32_t n, jm_bout *out)
+{
+    jm_aniso_gather(env->g, &s->an_cand, plo, phi, &s->an_list);
+    if (s->an_list.n == SIZE_MAX) return 0;
+    jm_aniso_normals(&s->an_list, order, n, out->pos, out->nrm);
+    return 1;
+}
+
 /* The kernels' normals at the block's vertices, part by part (vertex_parts.h). */
 static int finish(const jm_block_env *env, jm_scratch *s, const float lo[3], const float hi[3], int want_nrm,
                   jm_bout *out)
 {
     if (!want_nrm || !out->nv) return 1;
-    uint32_t start[65];
-    const int S = jm_vertex_parts(env->c, s, lo, hi, out, start);
-    if (!S) return 0;
-    for (int q = 0; q < S * S * S; q++) {
-        if (start[q] == start[q + 1]) continue;
-        float plo[3], phi[3];
-        jm_vertex_part_box(env->c, S, q, lo, hi, plo, phi);
-        jm_aniso_gather(env->g, &s->an_cand, plo, phi, &s->an_list);
-        if (s->an_list.n == SIZE_MAX) return 0;
-        jm_aniso_normals(&s->an_list, s->order + start[q], start[q + 1] - start[q], out->pos, out->nrm);
-    }
-    return 1;
+    return jm_vertex_parts_normals(env, s, lo, hi, out, part_normals);
 }
 
 const jm_field_ops jm_aniso_field = {
