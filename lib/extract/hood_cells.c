@@ -53,19 +53,8 @@ int jm_block_cells(const jm_config *c, const jm_grid *g, jm_mem *mem, jm_block_s
 int jm_hood_build_listed(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3],
                          const uint32_t *cells, size_t ncells)
 {
-    size_t total = 1;
-    for (int a = 0; a < 3; a++) {
-        hood->c0[a] = jm_hood_cell_lo(g, c, lo[a]);
-        int64_t c1 = (int64_t)floorf((hi[a] + c->influence) * g->inv_cell) + 1;
-        hood->n[a] = (int)(c1 - hood->c0[a] + 1);
-        total *= (size_t)hood->n[a];
-    }
-    if (total > hood->cap) {
-        uint32_t *r = jm_realloc_lasting(hood->mem, hood->range, 2 * hood->cap * sizeof *r, 2 * total * sizeof *r);
-        if (!r) return 0;
-        hood->range = r;
-        hood->cap = total;
-    }
+    if (!jm_hood_size(hood, g, c, lo, hi)) return 0;
+    const size_t total = (size_t)hood->n[0] * (size_t)hood->n[1] * (size_t)hood->n[2];
     memset(hood->range, 0, 2 * total * sizeof *hood->range);
     hood->particles = 0;
     hood->live = 0;

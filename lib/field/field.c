@@ -6,7 +6,7 @@
 
 #define GP(g, i) (&(g)->pos[3 * (size_t)(i)])
 
-int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3])
+int jm_hood_size(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3])
 {
     size_t total = 1;
     for (int a = 0; a < 3; a++) {
@@ -21,6 +21,12 @@ int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const flo
         hood->range = r;
         hood->cap = total;
     }
+    return 1;
+}
+
+int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3])
+{
+    if (!jm_hood_size(hood, g, c, lo, hi)) return 0;
     size_t k = 0;
     hood->particles = 0;
     hood->live = 0;

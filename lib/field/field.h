@@ -71,6 +71,9 @@ static inline void jm_hood_cell_span(const jm_grid *g, const jm_hood *hood, int 
     *c1 = h >= hood->n[a] ? hood->n[a] - 1 : (int)h;
 }
 
+/* Sizes hood for the box [lo, hi] (its first cell and extent on each axis,
+ * room for its cells' ranges); 0 when out of memory. */
+int jm_hood_size(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 /* Fills hood with the cells within the influence radius of the box [lo, hi]. */
 int jm_hood_build(jm_hood *hood, const jm_grid *g, const jm_config *c, const float lo[3], const float hi[3]);
 
