@@ -1,6 +1,7 @@
 /* test_realtime.c - a reused context meshes the next frame without any heap allocation (the paper's real-time embedding), whatever its thread count. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <cmocka.h>
@@ -16,8 +17,8 @@
  * (jm_heap_calls) and any the C library makes for it (qsort allocates
  * above 1 KiB). The sanitizers bring their own allocator: there only the
  * library's count is checked. */
-static volatile int counting;
-static volatile size_t calls;
+static atomic_int counting;
+static atomic_size_t calls; /* atomic: the workers allocate at once during the first frames */
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 #include <sys/mman.h>
 #define INTERPOSED 1
@@ -30,7 +31,8 @@ extern void *__mmap(void *, size_t, int, int, int, off_t);
 extern int __munmap(void *, size_t);
 static void note(void)
 {
-    if (counting) calls++;
+    if (atomic_load_explicit(&counting, memory_order_relaxed))
+        atomic_fetch_add_explicit(&calls, 1, memory_order_relaxed);
 }
 void *malloc(size_t n)
 {
