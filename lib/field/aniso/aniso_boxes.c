@@ -294,15 +294,7 @@ __attribute__((target("avx2,fma"))) static inline __m256 lut32(const __m256 t[4]
             (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, da), half, _CMP_LE_OQ)) |    \
             (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(_mm256_andnot_ps(sign, db), half, _CMP_LE_OQ)) << 8; \
         if (live) {                                                                                        \
-            const int first = __builtin_ctz(live), last = 31 - __builtin_clz(live);                       \
-            if (last - first < 8) {                                                                        \
-                woff[0] = first < 8 ? first : 8;                                                           \
-                nwin = 1;                                                                                  \
-            } else {                                                                                       \
-                woff[0] = 0;                                                                               \
-                woff[1] = 8;                                                                               \
-                nwin = 2;                                                                                  \
-            }                                                                                              \
+            nwin = jm_box_windows(live, woff);                                                             \
             for (int ww = 0; ww < nwin; ww++) wvx[ww] = _mm256_sub_ps(_mm256_loadu_ps(b.xc + woff[ww]), vcx); \
         }                                                                                                  \
     }                                                                                                      \

@@ -296,15 +296,7 @@ __attribute__((target("avx2,fma"))) static inline float min8_avx2(__m256 v)
             (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(_mm256_mul_ps(da, da), vbin), vtop, _CMP_LT_OQ)) | \
             (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(_mm256_mul_ps(_mm256_mul_ps(db, db), vbin), vtop, _CMP_LT_OQ)) << 8; \
         if (live) {                                                                                    \
-            const int first = __builtin_ctz(live), last = 31 - __builtin_clz(live);                   \
-            if (last - first < 8) {                                                                    \
-                woff[0] = first < 8 ? first : 8;                                                       \
-                nwin = 1;                                                                              \
-            } else {                                                                                   \
-                woff[0] = 0;                                                                           \
-                woff[1] = 8;                                                                           \
-                nwin = 2;                                                                              \
-            }                                                                                          \
+            nwin = jm_box_windows(live, woff);                                                         \
             for (int ww = 0; ww < nwin; ww++) {                                                        \
                 wdx[ww] = _mm256_sub_ps(_mm256_loadu_ps(b.xc + woff[ww]), q0);                         \
                 wdx2[ww] = _mm256_mul_ps(wdx[ww], wdx[ww]);                                            \

@@ -57,4 +57,19 @@ size_t jm_box_work_bytes(void);
 #define JM_BOX_BINS_PER_S 8.0
 #define JM_BOX_LOWER 1e-4
 void jm_box_lines(float a[JM_BOX_BINS], float b[JM_BOX_BINS], double inv_sph_h2);
+/* The AVX2 box rows' windows of 8 boxes (of a row's 16) that the boxes
+ * marked in live (bit k: box k in a particle's reach; live != 0) need: one
+ * window at woff[0] when they span fewer than 8, else both halves. Returns
+ * the number of windows. */
+static inline int jm_box_windows(unsigned live, int woff[2])
+{
+    const int first = __builtin_ctz(live), last = 31 - __builtin_clz(live);
+    if (last - first < 8) {
+        woff[0] = first < 8 ? first : 8;
+        return 1;
+    }
+    woff[0] = 0;
+    woff[1] = 8;
+    return 2;
+}
 #endif
