@@ -11,6 +11,7 @@
 
 #include "../formats/reader.h"
 #include "../lib/jetmesh.h"
+#include "util/ref_interpolate.h"
 #include "util/shared_data.h"
 
 #define R 0.025f
@@ -19,12 +20,6 @@ static float frand(unsigned *s)
 {
     *s = *s * 1664525u + 1013904223u;
     return (float)(*s >> 8) / 16777216.0f;
-}
-
-static double cubic(double q)
-{
-    double a = 2 - q > 0 ? 2 - q : 0, b = 1 - q > 0 ? 1 - q : 0;
-    return 0.25 * a * a * a - b * b * b;
 }
 
 static jm_context *context(int threads, jm_field field)
@@ -71,19 +66,10 @@ static void test_reference(void **state)
     const double h = 2 * R;
     size_t fallback = 0;
     for (size_t v = 0; v < NV; v++) {
-        double sw = 0, a[4] = {0, 0, 0, 0}, bd = INFINITY;
-        size_t best = 0;
-        for (size_t j = 0; j < N; j++) {
-            double d2 = 0;
-            for (int k = 0; k < 3; k++) d2 += ((double)pos[3 * v + k] - xyz[3 * j + k]) * ((double)pos[3 * v + k] - xyz[3 * j + k]);
-            if (d2 < bd) { bd = d2; best = j; }
-            double q = sqrt(d2) / h;
-            if (q >= 2) continue;
-            double w = cubic(q);
-            sw += w;
-            for (int k = 0; k < 3; k++) a[k] += w * vel[3 * j + k];
-            a[3] += w * rho[j];
-        }
+        ref_interp r;
+        ref_interpolate(pos + 3 * v, xyz, vel, rho, N, h, &r);
+        const double sw = r.sw, *a = r.a;
+        const size_t best = r.nearest;
         if (sw > 1e-6) {
             for (int k = 0; k < 3; k++) assert_true(fabs(out[1][0][3 * v + k] - a[k] / sw) < 1e-5);
             assert_true(fabs(out[1][1][v] - a[3] / sw) < 1e-3);
