@@ -220,17 +220,20 @@ static size_t flag_away(const float *restrict P, const float *restrict N, const 
  * (a fan folded over itself may have no normal facing every triangle). */
 static size_t mark_triangles(jm_pool *pool, const uint32_t *idx, size_t nt, const uint8_t *mark, uint64_t *bits);
 static int face_normals(jm_mem *mem, jm_pool *pool, const float *restrict P, float *restrict N, size_t nv,
-                        const uint32_t *idx, size_t nt, const uint8_t *flag, size_t bad, uint64_t *tbits)
+                        const uint32_t *idx, size_t nt, const uint8_t *flag, size_t bad, uint64_t *tbits,
+                        uint32_t *slot)
 {
     if (!bad) return 1;
     /* the flagged vertices' triangles: (slot, unit normal) for each corner
-     * at one, then sorted by slot */
+     * at one, then sorted by slot (slot: nv entries of the caller's
+     * scratch, not a fresh array: on a big frame new pages cost more than
+     * this pass) */
     size_t cap = 8 * bad, np = 0;
-    uint32_t *slot = jm_alloc(mem, nv * sizeof *slot), *who = jm_alloc(mem, bad * sizeof *who);
+    uint32_t *who = jm_alloc(mem, bad * sizeof *who);
     uint32_t *start = jm_calloc(mem, bad + 1, sizeof *start);
     float *pair = jm_alloc(mem, 3 * cap * sizeof *pair), *fn = NULL;
     uint32_t *pslot = jm_alloc(mem, cap * sizeof *pslot);
-    int ok = slot && who && start && pair && pslot;
+    int ok = who && start && pair && pslot;
     if (ok) {
         size_t b = 0;
         for (size_t i = 0; i < nv; i++) {
@@ -311,7 +314,6 @@ static int face_normals(jm_mem *mem, jm_pool *pool, const float *restrict P, flo
     jm_free(mem, pslot, cap * sizeof *pslot);
     jm_free(mem, start, (bad + 1) * sizeof *start);
     jm_free(mem, who, bad * sizeof *who);
-    jm_free(mem, slot, nv * sizeof *slot);
     return ok;
 }
 
@@ -564,7 +566,8 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
         if (compensate && R.listed)
             bad = flag_away(pos, nrm, idx, R.awl, R.na, flag) + flag_away(pos, nrm, idx, R.watch, R.nw, flag);
         else bad = flag_away(pos, nrm, idx, NULL, nt, flag);
-        ok = face_normals(mem, pool, pos, nrm, nv, idx, nt, flag, bad, R.tbits);
+        /* D is spent (added to pos above): its room holds the slots */
+        ok = face_normals(mem, pool, pos, nrm, nv, idx, nt, flag, bad, R.tbits, (uint32_t *)(void *)D);
     }
     jm_free(mem, R.tbits, tbsz);
     jm_free(mem, R.watch, (2 * R.capw + nv) * sizeof *R.watch);
