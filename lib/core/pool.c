@@ -1,18 +1,25 @@
 /* pool.c - a small pthread pool: parallel loops with dynamic chunking, the caller taking part. */
 #include "core/internal.h"
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
+
+/* A frame runs a few dozen loops, some of tens of microseconds (issue 34:
+ * the paper's jet meshes in a few milliseconds). Waking a sleeping thread
+ * costs about as much as such a loop, so between loops the helpers, and the
+ * caller waiting for them, first spin this long before they sleep. */
+#define POOL_SPIN_MS 0.2
 
 struct jm_pool {
     int n;                 /* workers including the caller */
     pthread_t *threads;
     pthread_mutex_t mu;
     pthread_cond_t wake, done;
-    unsigned long generation;
-    int quit;
-    int busy;              /* helpers still inside the current job */
+    _Atomic unsigned long generation; /* written under mu; read by spinning helpers */
+    _Atomic int quit;
+    _Atomic int busy;      /* helpers still inside the current job */
     /* the current job */
     jm_task_fn fn;
     void *arg;
@@ -32,6 +39,22 @@ static void work(jm_pool *p, int worker)
 
 typedef struct { jm_pool *pool; int worker; } helper_arg;
 
+/* A spin's step: the CPU given to any other thread that can run (on a
+ * busy machine the thread we wait for may need this core). */
+static inline void relax(void) { sched_yield(); }
+
+/* Spins up to POOL_SPIN_MS while *v == seen (and no quit); whether it changed. */
+static int spin_while(jm_pool *p, _Atomic unsigned long *v, unsigned long seen)
+{
+    const double t0 = jm_now_ms();
+    for (unsigned k = 1;; k++) {
+        if (atomic_load_explicit(v, memory_order_acquire) != seen || atomic_load_explicit(&p->quit, memory_order_relaxed))
+            return 1;
+        relax();
+        if ((k & 15) == 0 && jm_now_ms() - t0 > POOL_SPIN_MS) return 0;
+    }
+}
+
 static void *helper_main(void *varg)
 {
     helper_arg *ha = varg;
@@ -39,17 +62,23 @@ static void *helper_main(void *varg)
     int worker = ha->worker;
     free(ha);
     unsigned long seen = 0;
-    pthread_mutex_lock(&p->mu);
     for (;;) {
-        while (!p->quit && p->generation == seen) pthread_cond_wait(&p->wake, &p->mu);
+        if (!spin_while(p, &p->generation, seen)) {
+            pthread_mutex_lock(&p->mu);
+            while (!p->quit && p->generation == seen) pthread_cond_wait(&p->wake, &p->mu);
+            pthread_mutex_unlock(&p->mu);
+        }
         if (p->quit) break;
         seen = p->generation;
-        pthread_mutex_unlock(&p->mu);
         work(p, worker);
-        pthread_mutex_lock(&p->mu);
-        if (--p->busy == 0) pthread_cond_signal(&p->done);
+        /* the last helper out tells a caller that may sleep (under mu: the
+         * caller checks busy under mu before it waits) */
+        if (atomic_fetch_sub(&p->busy, 1) == 1) {
+            pthread_mutex_lock(&p->mu);
+            pthread_cond_signal(&p->done);
+            pthread_mutex_unlock(&p->mu);
+        }
     }
-    pthread_mutex_unlock(&p->mu);
     return NULL;
 }
 
@@ -64,6 +93,9 @@ jm_status jm_pool_create(int nthreads, jm_pool **out)
     pthread_cond_init(&p->wake, NULL);
     pthread_cond_init(&p->done, NULL);
     atomic_init(&p->next, 0);
+    atomic_init(&p->generation, 0);
+    atomic_init(&p->quit, 0);
+    atomic_init(&p->busy, 0);
     if (nthreads > 1) {
         p->threads = calloc((size_t)nthreads - 1, sizeof *p->threads);
         if (!p->threads) { jm_pool_free(p); return JM_E_OUT_OF_MEMORY; }
@@ -114,13 +146,21 @@ void jm_pool_run(jm_pool *p, size_t n, size_t chunk, jm_task_fn fn, void *arg)
     p->chunk = chunk;
     atomic_store(&p->next, 0);
     p->busy = p->n - 1;
-    p->generation++;
+    atomic_fetch_add_explicit(&p->generation, 1, memory_order_release);
     pthread_cond_broadcast(&p->wake);
     pthread_mutex_unlock(&p->mu);
     work(p, 0);
-    pthread_mutex_lock(&p->mu);
-    while (p->busy > 0) pthread_cond_wait(&p->done, &p->mu);
-    pthread_mutex_unlock(&p->mu);
+    /* the helpers out of this job: spun for a while, then asleep */
+    const double t0 = jm_now_ms();
+    for (unsigned k = 1; atomic_load_explicit(&p->busy, memory_order_acquire) > 0; k++) {
+        relax();
+        if ((k & 15) == 0 && jm_now_ms() - t0 > POOL_SPIN_MS) {
+            pthread_mutex_lock(&p->mu);
+            while (p->busy > 0) pthread_cond_wait(&p->done, &p->mu);
+            pthread_mutex_unlock(&p->mu);
+            break;
+        }
+    }
 }
 
 double jm_now_ms(void)
