@@ -421,7 +421,7 @@ typedef struct jm_params {
                                  Löschner et al. 2023), run in fewer passes
                                  (super time stepping: 25 in 9), each vertex's
                                  move along its unsmoothed normal kept within
-                                 0.5 r (a quarter of its piece's thickness
+                                 0.46 r (a quarter of its piece's thickness
                                  3 V / A where less), so bumps of the
                                  particles' size go while droplets, crests
                                  and ripples higher than that keep their

@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_smooth_frames.sh - on real splash frames, --smooth 25 --smooth-normals 10 is smoother than splashsurf's recommended post-processing while moving the surface and its outline less, keeping the volume and every piece (issue 31).
+# t_smooth_frames.sh - on the seven real liquid frames of ../shared, --smooth 25 --smooth-normals 10 is smoother than splashsurf's recommended post-processing while moving the surface and its outline less, keeping the volume and every piece (issue 31).
 #
 # Both meshes at cube r/2 (jetmesh's default; splashsurf -s 0.0125), compared
 # by tests/tools/meshquality against jetmesh's raw mesh of the frame: mean
@@ -20,7 +20,11 @@ checked=0
 # frame, splashsurf's dihedral, p99 distance and pull-in (in r) measured against jetmesh's raw mesh
 for spec in "$D/dam_break_frame_9_6859_particles.bgeo 2.8434 0.5845 0.6403" \
             "$D/dam_break_frame_23_24389_particles.bgeo 3.3914 0.6203 0.7810" \
-            "$ROOT/samples/real/double_dam_break_frame_26_4732_particles.vtk 3.3465 0.5653 0.8062"; do
+            "$ROOT/samples/real/double_dam_break_frame_26_4732_particles.vtk 3.3465 0.5653 0.8062" \
+            "$D/double_dam_break_frame_01_4732_particles.vtk 1.2853 0.4358 0.3606" \
+            "$D/ParticleData_Fluid_5.vtk 1.8314 0.4705 0.4472" \
+            "$D/ParticleData_Fluid_50.bgeo 6.2153 0.4606 0.7071" \
+            "$D/bunny_frame_14_7705_particles.vtk 2.9585 0.8897 0.7071"; do
   # shellcheck disable=SC2086
   set -- $spec
   f=$1; n=$(basename "$f")

@@ -150,12 +150,11 @@ static void test_ball_orange_peel(void **state)
     double dv = (r1.volume - r0.volume) / r0.volume;
     printf("ball of %zu particles: radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, volume %+.2f %%\n", n,
            sd0 / R, sd1 / R, a0, a1, 100 * dv);
-    /* 0.44: no vertex moves more than 0.5 r along its normal and 25
-     * iterations diffuse as splashsurf's 25 do (issue 31; 0.48 while the
-     * band clamped within the super time stepping cycles; the unbounded
-     * smoothing before reached a third by moving the surface up to 1.1 r
-     * and shrinking dense droplets to nothing) */
-    assert_true(sd1 <= 0.46 * sd0);
+    /* 0.46: no vertex moves more than 0.46 r along its normal and 25
+     * iterations diffuse as splashsurf's 25 do (issue 31; 0.44 with a band
+     * of 0.5 r; the unbounded smoothing before reached a third by moving
+     * the surface up to 1.1 r and shrinking dense droplets to nothing) */
+    assert_true(sd1 <= 0.47 * sd0);
     assert_true(a1 <= 10.0);
     assert_true(fabs(dv) <= 0.02);
     /* the same triangles: smoothing moves vertices only */

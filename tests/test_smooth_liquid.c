@@ -102,9 +102,9 @@ static void test_droplets_kept(void **state)
 }
 
 /* Balls packed at random (their truth a sphere), several seeds and sizes:
- * the radial deviation at most 0.54 of the raw mesh's (0.49 to 0.53 with
- * the band applied only after whole super time stepping cycles; 0.52 to
- * 0.56 when it clamped within them. Issue 31 asks a third: these balls'
+ * the radial deviation at most 0.56 of the raw mesh's (0.50 to 0.55 with
+ * the band of 0.46 r, 0.49 to 0.53 with 0.5 r, which moved two real frames'
+ * surfaces more than splashsurf does. Issue 31 asks a third: these balls'
  * deviation lies mostly at wavelengths of 8 to 14 r, which 25 iterations
  * keep; a third takes about 100 plain steps and moves of 0.6 to 0.7 r),
  * normals within 10 degrees of the sphere's at the 95th percentile, the
@@ -155,10 +155,10 @@ static void balls(int iters, double most)
 static void test_balls_smoothed(void **state)
 {
     (void)state;
-    balls(25, 0.54);
+    balls(25, 0.56);
 }
 
-/* More iterations smooth more: --smooth 100 takes the balls to 0.33 to 0.46
+/* More iterations smooth more: --smooth 100 takes the balls to 0.36 to 0.50
  * of the raw deviation (the smallest, of radius 10 r, held by the band).
  * The super time stepping cycles shrink a piece by its curvature; its volume
  * is restored between them (smooth_volume.c), or the shrinkage would fill
@@ -166,7 +166,7 @@ static void test_balls_smoothed(void **state)
 static void test_balls_smoothed_more(void **state)
 {
     (void)state;
-    balls(100, 0.47);
+    balls(100, 0.51);
 }
 
 int main(void)

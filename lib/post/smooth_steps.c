@@ -11,8 +11,8 @@
  * how the marching cubes cut the bumps, and the mesh of a translated input
  * would not be a translated copy, issue 31), t, the vertex's displacement
  * from its raw position along its raw unit normal, is clamped to the band
- * [-b, b] (b = 0.5 r, smooth.c): bumps of
- * the particles' size go, the surface stays within half a radius of where
+ * [-b, b] (b = 0.46 r, smooth.c): bumps of
+ * the particles' size go, the surface stays within 0.46 r of where
  * the particles put it (a droplet, a crest, a ripple higher than that
  * keeps its shape). The move along the surface is free: it evens the
  * marching cubes' slivers.
