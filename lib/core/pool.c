@@ -43,13 +43,26 @@ typedef struct { jm_pool *pool; int worker; } helper_arg;
  * busy machine the thread we wait for may need this core). */
 static inline void relax(void) { sched_yield(); }
 
-/* Spins up to POOL_SPIN_MS while *v == seen (and no quit); whether it changed. */
-static int spin_while(jm_pool *p, _Atomic unsigned long *v, unsigned long seen)
+/* A helper's next job (or quit) has come: the generation moved past seen. */
+static int job_came(const jm_pool *p, unsigned long seen)
+{
+    return atomic_load_explicit(&p->generation, memory_order_acquire) != seen ||
+           atomic_load_explicit(&p->quit, memory_order_relaxed);
+}
+/* The caller's job is done: every helper out of it (seen unused). */
+static int helpers_out(const jm_pool *p, unsigned long seen)
+{
+    (void)seen;
+    return atomic_load_explicit(&p->busy, memory_order_acquire) == 0;
+}
+
+/* Spins up to POOL_SPIN_MS until ready(p, seen); whether it became so
+ * (if not, the caller sleeps on the condition variable instead). */
+static int spin_until(const jm_pool *p, int (*ready)(const jm_pool *, unsigned long), unsigned long seen)
 {
     const double t0 = jm_now_ms();
     for (unsigned k = 1;; k++) {
-        if (atomic_load_explicit(v, memory_order_acquire) != seen || atomic_load_explicit(&p->quit, memory_order_relaxed))
-            return 1;
+        if (ready(p, seen)) return 1;
         relax();
         if ((k & 15) == 0 && jm_now_ms() - t0 > POOL_SPIN_MS) return 0;
     }
@@ -63,7 +76,7 @@ static void *helper_main(void *varg)
     free(ha);
     unsigned long seen = 0;
     for (;;) {
-        if (!spin_while(p, &p->generation, seen)) {
+        if (!spin_until(p, job_came, seen)) {
             pthread_mutex_lock(&p->mu);
             while (!p->quit && p->generation == seen) pthread_cond_wait(&p->wake, &p->mu);
             pthread_mutex_unlock(&p->mu);
@@ -151,15 +164,10 @@ void jm_pool_run(jm_pool *p, size_t n, size_t chunk, jm_task_fn fn, void *arg)
     pthread_mutex_unlock(&p->mu);
     work(p, 0);
     /* the helpers out of this job: spun for a while, then asleep */
-    const double t0 = jm_now_ms();
-    for (unsigned k = 1; atomic_load_explicit(&p->busy, memory_order_acquire) > 0; k++) {
-        relax();
-        if ((k & 15) == 0 && jm_now_ms() - t0 > POOL_SPIN_MS) {
-            pthread_mutex_lock(&p->mu);
-            while (p->busy > 0) pthread_cond_wait(&p->done, &p->mu);
-            pthread_mutex_unlock(&p->mu);
-            break;
-        }
+    if (!spin_until(p, helpers_out, 0)) {
+        pthread_mutex_lock(&p->mu);
+        while (p->busy > 0) pthread_cond_wait(&p->done, &p->mu);
+        pthread_mutex_unlock(&p->mu);
     }
 }
 
