@@ -59,8 +59,8 @@ group jet_r --scene jet --field metasphere --method mt --cube-size 1 -j 1,2
 # runs one 1-thread and one 2-thread `jetmesh bench` case, 0.5 s each, so
 # the shared machine's slow phases, which last minutes, fall on both alike
 # (the jet group above runs them a second apart, once).
-median() { # the median of the numbers on standard input, or null
-  sort -n | awk '{ a[NR] = $1 } END { if (NR) printf "%.4f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2; else print "null" }'
+median() { # DIGITS: the median of the numbers on standard input to DIGITS decimals, or null
+  sort -n | awk -v f="%.$1f" '{ a[NR] = $1 } END { if (NR) printf f, NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2; else print "null" }'
 }
 JROUNDS=7
 [ -n "$QUICK" ] && JROUNDS=1
@@ -83,8 +83,8 @@ if grep -q ' fail$' "$OUT/jet_threads.times"; then
   echo "bench.sh: a jet threads round failed" >&2
   status=1
 fi
-jt1=$(awk '$1 == 1 && $2 != "fail" { print $2 }' "$OUT/jet_threads.times" | median)
-jt2=$(awk '$1 == 2 && $2 != "fail" { print $2 }' "$OUT/jet_threads.times" | median)
+jt1=$(awk '$1 == 1 && $2 != "fail" { print $2 }' "$OUT/jet_threads.times" | median 4)
+jt2=$(awk '$1 == 2 && $2 != "fail" { print $2 }' "$OUT/jet_threads.times" | median 4)
 echo "jet threads (median of $JROUNDS rounds): 1 thread $jt1 ms, 2 threads $jt2 ms"
 
 REAL1="$SHARED/data/derived/dam_break_frame_23_24389_particles.xyz"
@@ -149,9 +149,7 @@ if [ -f samples/jet/jet_000.csv ]; then
   $seq_ok || echo "bench.sh: a sequence conversion failed (see $OUT/sequence.log)" >&2
 fi
 median_of() { # name: the median seconds of that variant, or null
-  v=$(awk -v k="$1" '$1 == k && $2 != "fail" { print $2 }' "$OUT/sequence.times" | sort -n |
-    awk '{ a[NR] = $1 } END { if (NR) printf "%.3f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2 }')
-  echo "${v:-null}"
+  awk -v k="$1" '$1 == k && $2 != "fail" { print $2 }' "$OUT/sequence.times" | median 3
 }
 seq_s=$(median_of default) one_s=$(median_of one_at_a_time) nosync_s=$(median_of no_sync) starts_s=$(median_of starts)
 echo "sequence (median of $ROUNDS): $seq_s s ($seq_files GLB files, ok=$seq_ok), one at a time $one_s s," \
@@ -200,10 +198,8 @@ if [ -f "$VEL_IN" ]; then
   else
     vel_ok=true
   fi
-  vel_plain=$(awk '$1 == "plain" && $2 != "fail" { print $2 }' "$OUT/velocity.times" | sort -n |
-    awk '{ a[NR] = $1 } END { if (NR) printf "%.3f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2; else print "null" }')
-  vel_attr=$(awk '$1 == "velocity" && $2 != "fail" { print $2 }' "$OUT/velocity.times" | sort -n |
-    awk '{ a[NR] = $1 } END { if (NR) printf "%.3f", NR % 2 ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2; else print "null" }')
+  vel_plain=$(awk '$1 == "plain" && $2 != "fail" { print $2 }' "$OUT/velocity.times" | median 3)
+  vel_attr=$(awk '$1 == "velocity" && $2 != "fail" { print $2 }' "$OUT/velocity.times" | median 3)
   [ "$vel_plain" != null ] && [ "$vel_attr" != null ] &&
     vel_ratio=$(awk -v a="$vel_attr" -v b="$vel_plain" 'BEGIN { printf "%.3f", a / b }')
   echo "velocity (median of $VROUNDS, $VFRAMES frames): $vel_plain s without, $vel_attr s with --attributes velocity: ${vel_ratio}x"
