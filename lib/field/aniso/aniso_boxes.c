@@ -63,19 +63,6 @@ void jm_aniso_box_lines(float a[JM_AN_BOX_BINS], float b[JM_AN_BOX_BINS])
     memcpy(b, lines_b, sizeof lines_b);
 }
 
-/* The largest distance along one axis from a box's centre node to its
- * nodes (box i: centre min(S i + 1, n - 1), nodes S i .. S i + 2 below n),
- * in double from the float nodes, raised a little. */
-static double box_extent(const float *t, int n, int S, int nb)
-{
-    double m = 0.0;
-    for (int i = 0; i < nb; i++) {
-        const int cc = S * i + 1 < n ? S * i + 1 : n - 1;
-        for (int k = S * i; k <= S * i + 2 && k < n; k++) m = fmax(m, fabs((double)t[k] - (double)t[cc]));
-    }
-    return m * (1.0 + 1e-9);
-}
-
 /* The accumulators, as inside_boxes.c's: per row of
  * box centres L and G (16 lanes), the amp sum W and count m of the
  * kernels it got, and the nodes' bounds along x. */
@@ -340,9 +327,9 @@ float jm_aniso_boxes(const jm_grid *g, const jm_config *c, const jm_an_cand *can
         b.yc[i] = y[r];
         b.zc[i] = z[r];
     }
-    b.E[0] = box_extent(x, n, 2, b.nb);
-    b.E[1] = box_extent(y, n, 3, b.nr);
-    b.E[2] = box_extent(z, n, 3, b.nr);
+    b.E[0] = jm_box_extent(x, n, 2, b.nb);
+    b.E[1] = jm_box_extent(y, n, 3, b.nr);
+    b.E[2] = jm_box_extent(z, n, 3, b.nr);
     for (int a = 0; a < 3; a++) b.te[a] = jm_float_up(2.0 * b.E[a]);
     b.inv3h = 1.0f / (3.0f * c->h);
     b.kappa = (double)c->an_kr * c->an_kr;

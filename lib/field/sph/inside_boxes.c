@@ -39,22 +39,6 @@ int jm_sph_boxes_apply(const jm_config *c, size_t inner, const float lo[3], cons
     return c->h <= JM_BOX_MAX_H * c->sph_h && jm_block_filled(c, inner, lo, hi, JM_BOX_FILL);
 }
 
-/* How far a box's nodes lie from its centre node along one axis of float
- * nodes t[0..n-1]: box i has centre node min(S i + 1, n - 1) and holds the
- * nodes S i .. S i + 2 (those below n; S = 2: boxes overlap on their end
- * nodes, S = 3: they tile). The largest |t[node] - t[centre]| over the
- * boxes (the float nodes are not exactly evenly spaced), in double, raised
- * a little. */
-static double box_extent(const float *t, int n, int S, int nb)
-{
-    double m = 0.0;
-    for (int i = 0; i < nb; i++) {
-        const int cc = S * i + 1 < n ? S * i + 1 : n - 1;
-        for (int k = S * i; k <= S * i + 2 && k < n; k++) m = fmax(m, fabs((double)t[k] - (double)t[cc]));
-    }
-    return m * (1.0 + 1e-9);
-}
-
 /* E2 >= e0^2 + e1^2 + e2^2 as a float, and the factors 2 e_a */
 static void box_consts(const double e[3], float *E2, float te[3])
 {
@@ -96,7 +80,7 @@ static void setup(const jm_config *c, const float *x, const float *y, const floa
         b->yc[i] = y[r];
         b->zc[i] = z[r];
     }
-    const double e[3] = {box_extent(x, n, 2, b->nb), box_extent(y, n, 3, b->nr), box_extent(z, n, 3, b->nr)};
+    const double e[3] = {jm_box_extent(x, n, 2, b->nb), jm_box_extent(y, n, 3, b->nr), jm_box_extent(z, n, 3, b->nr)};
     box_consts(e, &b->E2, b->te);
     double M = 0.0, Gt = 0.0;
     for (int k = 0; k < JM_BOX_BINS - 1; k++) { /* the last bin adds exact zeros */

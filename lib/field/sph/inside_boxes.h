@@ -2,6 +2,7 @@
 #ifndef JETMESH_INSIDE_BOXES_H
 #define JETMESH_INSIDE_BOXES_H
 #include "field/sph/cull.h"
+#include <math.h>
 
 /* The box pass (jm_sph_boxes) runs, instead of the partial sums
  * (jm_sph_partial), on blocks JM_BOX_FILL full of fluid or more (the fill of
@@ -57,6 +58,20 @@ size_t jm_box_work_bytes(void);
 #define JM_BOX_BINS_PER_S 8.0
 #define JM_BOX_LOWER 1e-4
 void jm_box_lines(float a[JM_BOX_BINS], float b[JM_BOX_BINS], double inv_sph_h2);
+/* The largest distance along one axis from a box's centre node to its
+ * nodes (box i: centre min(S i + 1, n - 1), nodes S i .. S i + 2 below
+ * n; along x S = 2, overlapping, along y and z S = 3, tiling), in double
+ * from the float nodes (not exactly evenly spaced), raised a little: the
+ * sph and the anisotropic box passes' reach (docs/culling.md). */
+static inline double jm_box_extent(const float *t, int n, int S, int nb)
+{
+    double m = 0.0;
+    for (int i = 0; i < nb; i++) {
+        const int cc = S * i + 1 < n ? S * i + 1 : n - 1;
+        for (int k = S * i; k <= S * i + 2 && k < n; k++) m = fmax(m, fabs((double)t[k] - (double)t[cc]));
+    }
+    return m * (1.0 + 1e-9);
+}
 /* The AVX2 box rows' windows of 8 boxes (of a row's 16) that the boxes
  * marked in live (bit k: box k in a particle's reach; live != 0) need: one
  * window at woff[0] when they span fewer than 8, else both halves. Returns
