@@ -1,6 +1,7 @@
 /* cavities.c - removes closed inward-facing shells smaller than a particle (sub-particle bubbles inside bulk fluid). */
 #include "post/cavities.h"
 #include "post/pieces.h"
+#include "extract/compact.h"
 #include <string.h>
 
 /*
@@ -154,42 +155,21 @@ int jm_drop_small_cavities(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, f
     for (size_t v = 0; v < n; v++)
         if (parent[v] == v && vol[v] < 0.0 && -vol[v] < max_volume) removed++;
     if (removed) {
-        /* new index of each kept vertex (UINT32_MAX: dropped); keep order */
-        uint32_t *map = parent; /* reused after the roots are read */
-        size_t k = 0;
-        /* a drop flag per vertex: the roots first, then the others from
-         * their root's */
+        /* a drop flag per vertex (in vol): the roots first, then the others
+         * from their root's; a whole piece goes, so one corner tells a
+         * triangle's */
         for (size_t v = 0; v < n; v++)
             if (parent[v] == v) vol[v] = (vol[v] < 0.0 && -vol[v] < max_volume) ? 1.0 : 0.0;
         for (size_t v = 0; v < n; v++)
             if (parent[v] != v) vol[v] = vol[parent[v]];
-        for (size_t v = 0; v < n; v++) {
-            if (vol[v] != 0.0) {
-                map[v] = UINT32_MAX;
-                continue;
-            }
-            map[v] = (uint32_t)k;
-            if (k != v) {
-                memmove(pos + 3 * k, pos + 3 * v, 3 * sizeof *pos);
-                if (nrm) memmove(nrm + 3 * k, nrm + 3 * v, 3 * sizeof *nrm);
-                if (uv) memmove(uv + 2 * k, uv + 2 * v, 2 * sizeof *uv);
-            }
-            k++;
-        }
-        size_t kt = 0;
-        for (size_t t = 0; t < nt; t++) {
-            uint32_t a = map[idx[3 * t]];
-            if (a == UINT32_MAX) continue; /* a whole component goes: one corner tells */
-            idx[3 * kt] = a;
-            idx[3 * kt + 1] = map[idx[3 * t + 1]];
-            idx[3 * kt + 2] = map[idx[3 * t + 2]];
-            kt++;
-        }
-        *nv = k;
-        *ni = 3 * kt;
+        uint8_t *keep = jm_alloc(mem, nt);
+        if (keep)
+            for (size_t t = 0; t < nt; t++) keep[t] = vol[idx[3 * t]] == 0.0;
+        ok = keep && jm_mesh_compact(mem, pos, nrm, uv, idx, nv, ni, keep);
+        jm_free(mem, keep, nt);
     }
     if (!roots) jm_free(mem, parent, n * sizeof *parent);
     jm_free(mem, vol, n * sizeof *vol);
-    *out_removed = removed;
-    return 1;
+    *out_removed = ok ? removed : 0;
+    return ok;
 }
