@@ -177,7 +177,9 @@ static void test_matches_brute_force(void **state)
     for (size_t v = 0; v < m.vertex_count; v += 97) {
         float val, grad[3];
         assert_int_equal(jm_field_eval(&p, &in, m.positions + 3 * v, &val, grad), JM_OK);
-        /* linear interpolation between nodes a quarter r apart */
+        /* the vertices settled along their edges onto the surface
+         * (aniso_normals.c; linear interpolation between nodes a quarter r
+         * apart left 0.0055) */
         double err = fabs(val - 0.6);
         if (err > worst) worst = err;
         double gl = sqrt(grad[0] * grad[0] + grad[1] * grad[1] + grad[2] * grad[2]);
@@ -186,8 +188,10 @@ static void test_matches_brute_force(void **state)
         if (dot < worst_dot) worst_dot = dot;
     }
     printf("brute force at the vertices: |phi - 0.6| <= %.4f, normal . -grad/|grad| >= %.6f\n", worst, worst_dot);
-    assert_true(worst < 0.03);
-    assert_true(worst_dot > 0.9999);
+    assert_true(worst < 0.0025);
+    /* the normal is the field's where the marching put the vertex, before
+     * its settling step: within two degrees of the gradient's at the vertex */
+    assert_true(worst_dot > 0.9995);
     jm_context_free(ctx);
 }
 

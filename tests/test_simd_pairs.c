@@ -11,6 +11,7 @@
 
 /* internal (white-box test): the paths under test and the switch between them */
 #include "../lib/field/aniso/aniso_moments.h"
+#include "../lib/extract/tables.h"
 #include "../lib/field/aniso/aniso_normals.h"
 #include "../lib/core/cpu.h"
 #include "../lib/jetmesh_testing.h"
@@ -112,13 +113,17 @@ static void test_moments_pair_bits(void **state)
 
 /* Random kernels (positive definite M, amplitudes), padded as
  * jm_aniso_gather pads; vertices near and far, and one on a kernel's centre
- * (q = 0: no term), in odd and even counts. */
+ * (q = 0: no gradient term, a value term), in odd and even counts; each
+ * vertex on a lattice edge: the normals and the settled positions the same
+ * bits one at a time and in pairs, every vertex moved along its edge and
+ * kept within it. */
 static void test_normals_pair_bits(void **state)
 {
     (void)state;
     enum { KER = 8 * 12, NV = 41 };
     static float buf[KER / 8 * JM_AN_GROUP];
     unsigned s = 5;
+    int moved = 0, clamped = 0; /* steps inside the edge, and held at its ends (counted on x edges) */
     jm_an_list l = {buf, 0, KER, NULL};
     for (int round = 0; round < 100; round++) {
         l.n = 1 + (size_t)(frand(&s) * (KER - 1));
@@ -135,19 +140,46 @@ static void test_normals_pair_bits(void **state)
             b[24] = g0 * g0, b[32] = c, b[40] = 0.5f * c, b[48] = g1 * g1, b[56] = 0.0f, b[64] = g0 * g1;
             b[72] = 0.5f + frand(&s);
         }
-        float pos[3 * NV], n1[3 * NV], n2[3 * NV];
+        float pos[3 * NV], p1[3 * NV], p2[3 * NV], n1[3 * NV], n2[3 * NV], e[3 * NV];
         uint32_t idx[NV];
         const size_t nv = 1 + (size_t)(frand(&s) * (NV - 1));
+        const float h = 0.02f; /* vertices on lattice edges of cube h, e their directions (inside to outside) */
         for (size_t v = 0; v < nv; v++) {
             idx[v] = (uint32_t)(nv - 1 - v); /* not in order */
-            for (int a = 0; a < 3; a++) pos[3 * v + a] = 0.2f * frand(&s) - 0.02f + (v % 7 == 0 ? 5.0f : 0.0f);
+            const int *dv = jm_dir[(int)(frand(&s) * 6.999f)];
+            const float t = 0.01f + 0.98f * frand(&s), sign = frand(&s) < 0.5f ? -1.0f : 1.0f;
+            const float len = sqrtf((float)(dv[0] + dv[1] + dv[2]));
+            for (int a = 0; a < 3; a++) {
+                const float node = (float)(int)(frand(&s) * 10.0f) * h - 0.02f + (v % 7 == 0 ? 5.0f : 0.0f);
+                pos[3 * v + a] = node + t * h * (float)dv[a];
+                e[3 * v + a] = sign * (float)dv[a] / len;
+            }
         }
-        memcpy(pos, buf, sizeof(float)); /* vertex 0 on kernel 0's centre in x */
-        for (size_t k = 0; k < 3 * NV; k++) n1[k] = n2[k] = 7.0f; /* untouched where the gradient vanishes */
-        for (size_t v = 0; v < nv; v++) jm_aniso_normal(&l, &pos[3 * (size_t)idx[v]], &n1[3 * (size_t)idx[v]]);
-        jm_aniso_normals(&l, idx, nv, pos, n2);
-        if (memcmp(n1, n2, sizeof n1)) fail_msg("round %d (%zu kernels, %zu vertices): pairs differ", round, l.n, nv);
+        memcpy(p1, pos, 3 * nv * sizeof *pos);
+        memcpy(p2, pos, 3 * nv * sizeof *pos);
+        memcpy(n1, e, 3 * nv * sizeof *e);
+        memcpy(n2, e, 3 * nv * sizeof *e);
+        const float thr = 0.5f;
+        for (size_t v = 0; v < nv; v++) jm_aniso_normal(&l, thr, h, &p1[3 * (size_t)idx[v]], &n1[3 * (size_t)idx[v]]);
+        jm_aniso_normals(&l, thr, h, idx, nv, p2, n2);
+        if (memcmp(n1, n2, 3 * nv * sizeof *n1)) fail_msg("round %d (%zu kernels, %zu vertices): pairs differ", round, l.n, nv);
+        if (memcmp(p1, p2, 3 * nv * sizeof *p1))
+            fail_msg("round %d (%zu kernels, %zu vertices): settled positions differ", round, l.n, nv);
+        for (size_t v = 0; v < nv; v++) {
+            /* along its edge only, and within it */
+            float d[3], dd = 0.0f, de = 0.0f;
+            for (int a = 0; a < 3; a++) d[a] = p1[3 * v + a] - pos[3 * v + a], dd += d[a] * d[a], de += d[a] * e[3 * v + a];
+            if (dd > 0.0f && fabsf(de * de - dd) > 1e-3f * dd) fail_msg("round %d: vertex %zu left its edge's line", round, v);
+            for (int a = 0; a < 3; a++) {
+                if (e[3 * v + a] == 0.0f) continue;
+                const double x = (double)p1[3 * v + a] / h, u = x - floor(x);
+                if (u < 0.0099 || u > 0.9901) fail_msg("round %d: vertex %zu left its edge (%g)", round, v, u);
+                clamped += dd > 0.0f && (u < 0.0101 || u > 0.9899) && a == 0;
+                moved += dd > 0.0f && u > 0.0101 && u < 0.9899 && a == 0;
+            }
+        }
     }
+    if (moved < 50 || clamped < 50) fail_msg("%d free and %d clamped steps: the test would prove little", moved, clamped);
 }
 
 /* The metasphere finish (jm_meta_finish: chord-sag offsets, fold rounds,

@@ -26,6 +26,16 @@ __attribute__((target("avx512f"))) static inline __m512 jm_pair16_cubic_dw(__m51
     return _mm512_add_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(-0.75f), A), A),
                          _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(3.0f), B), B));
 }
+/* jm_cubic_w (internal.h) on every lane, the same operations in the same
+ * order: 0.25 a a a - b b b */
+__attribute__((target("avx512f"))) static inline __m512 jm_pair16_cubic_w(__m512 q)
+{
+    const __m512 zero = _mm512_setzero_ps();
+    const __m512 A = _mm512_max_ps(_mm512_sub_ps(_mm512_set1_ps(2.0f), q), zero);
+    const __m512 B = _mm512_max_ps(_mm512_sub_ps(_mm512_set1_ps(1.0f), q), zero);
+    return _mm512_sub_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(0.25f), A), A), A),
+                         _mm512_mul_ps(_mm512_mul_ps(B, B), B));
+}
 /* gradient sums per lane as two normals: jm_normal_from_lanes8 on lanes
  * 0-7 into np and on lanes 8-15 into nq (each untouched where its sum
  * vanishes) */

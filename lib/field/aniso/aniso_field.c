@@ -62,21 +62,26 @@ static const float *sample(const jm_block_env *env, jm_scratch *s, int n, const 
     return s->pad;
 }
 
-/* The kernels' normals at a part's vertices from the kernels near it. */
+/* The kernels' normals at a part's vertices from the kernels near it, each
+ * vertex settled onto the surface along its edge (aniso_normals.c: the
+ * block's fallback normals are the edges' directions). */
 static int part_normals(const jm_block_env *env, jm_scratch *s, const float plo[3], const float phi[3],
                         const uint32_t *order, uint32_t n, jm_bout *out)
 {
     jm_aniso_gather(env->g, &s->an_cand, plo, phi, &s->an_list);
     if (s->an_list.n == SIZE_MAX) return 0;
-    jm_aniso_normals(&s->an_list, order, n, out->pos, out->nrm);
+    jm_aniso_normals(&s->an_list, env->c->threshold, env->c->h, order, n, out->pos, out->nrm);
     return 1;
 }
 
-/* The kernels' normals at the block's vertices, part by part (vertex_parts.h). */
+/* The kernels' normals at the block's vertices, part by part
+ * (vertex_parts.h); the vertices settle whether or not normals are wanted
+ * (the surface is the same either way). */
 static int finish(const jm_block_env *env, jm_scratch *s, const float lo[3], const float hi[3], int want_nrm,
                   jm_bout *out)
 {
-    if (!want_nrm || !out->nv) return 1;
+    (void)want_nrm;
+    if (!out->nv) return 1;
     return jm_vertex_parts_normals(env, s, lo, hi, out, part_normals);
 }
 
