@@ -100,6 +100,12 @@ group block_sph --scene block:10000 --scene block:100000 $SPH --method mc,mt -j 
 group block_meta --scene block:10000 --field metasphere --method mt,mc -j 1,2
 # the anisotropic kernels against the isotropic field, side by side in one run
 group block_aniso --scene block:100000 --field sph,sph-aniso --smoothing-length 2 --threshold 0.6 --method mc -j 1,2
+# the flicker figure (issue 31): an 8,000-particle block moved by a quarter
+# cube a frame, raw, anisotropic and smoothed, each against the raw mesh of
+# the same method (the figure is geometry: one timed run per case)
+group flicker --scene block:8000 --field sph,sph-aniso --method mc,mt -j 2 --min-time 0 --repeat 1 --flicker 4
+group flicker_smooth --scene block:8000 --field sph --method mc,mt -j 2 --min-time 0 --repeat 1 --flicker 4 \
+  --smooth 25 --smooth-normals 10
 group block_1m --scene block:1000000 $SPH --method mc -j 1,2 --min-time 0 --repeat 3 --write glb
 group spray --scene spray:10000 --field metasphere,sph --method mt -j 1,2 --templates both
 
@@ -497,6 +503,14 @@ const ai1 = find("block_aniso", "block:100000", "sph", "mc", 1), aa1 = find("blo
 row("100k block, mc, 1 thread: --anisotropic ≤ 2× the isotropic field",
     ai1 && aa1 ? `${f(sec(aa1), 3)} s against ${f(sec(ai1), 3)} s (${f(sec(aa1) / sec(ai1), 2)}×)` : "–",
     ai1 && aa1 ? sec(aa1) <= 2 * sec(ai1) : null);
+// issue 31: the flicker of anisotropy and smoothing against the raw mesh's
+for (const [what, grp, field] of [["--anisotropic", "flicker", "sph-aniso"], ["--smooth 25 --smooth-normals 10", "flicker_smooth", "sph"]]) {
+  const got = ["mc", "mt"].map((m) => [find("flicker", "block:8000", "sph", m, 2), find(grp, "block:8000", field, m, 2)]);
+  const ok = got.every(([r, x]) => r && x && r.flicker && x.flicker);
+  row(`block 8k moved by a quarter cube a frame: ${what} shimmers no more than the raw mesh (flicker p99, mc and mt)`,
+      ok ? got.map(([r, x], i) => `${["mc", "mt"][i]} ${f(x.flicker.p99_r, 4)} R against ${f(r.flicker.p99_r, 4)} R`).join("; ") : "–",
+      ok ? got.every(([r, x]) => x.flicker.p99_r <= r.flicker.p99_r) : null);
+}
 const SQ = B.sequence;
 // issue 32: the Blender streaming import of a 500-frame run
 const BL = B.blender;
@@ -601,6 +615,8 @@ const titles = {
   block_sph: "Blocks 10k and 100k, sph (the reference case: mc)",
   block_meta: "Block 10k, metasphere",
   block_aniso: "Block 100k, sph against sph with anisotropic kernels (mc)",
+  flicker: "Flicker: block 8k moved by a quarter cube a frame, raw and anisotropic (one timed run each)",
+  flicker_smooth: "Flicker: the same block smoothed (--smooth 25 --smooth-normals 10)",
   block_1m: "Block 1M, sph mc, with a GLB write stage (3 runs)",
   spray: "Spray 10k isolated droplets, templates off (general path) and on",
 };
@@ -625,6 +641,13 @@ for (const g of B.groups) {
       `${mib(c.lib_peak_bytes)} | ${mib(c.peak_rss_bytes)} | ${X(c.speedup_vs_1_thread)} | ${X(c.template_speedup)} |`);
   }
   p();
+  const fl = g.result.cases.filter((c) => c.status === "ok" && c.flicker);
+  if (fl.length) {
+    p("| case | field | method | flicker frames | p99 R | max R |");
+    p("|---|---|---|--:|--:|--:|");
+    for (const c of fl) p(`| ${c.name} | ${c.field} | ${c.method} | ${c.flicker.frames} | ${f(c.flicker.p99_r, 4)} | ${f(c.flicker.max_r, 4)} |`);
+    p();
+  }
 }
 
 // ---- sequence
