@@ -31,8 +31,8 @@
  * summed in lane order: the outward unit normal at p into nrm; p, a vertex
  * on the lattice edge (cube h) whose unit direction from its inside to its
  * outside node nrm holds on entry, moved along it by one Newton step onto
- * the level thr, at most AN_STEP_MAX h and kept within the edge. Both untouched (returns 0) where the
- * gradient vanishes or is not finite. */
+ * the level thr, at most AN_STEP_MAX h and kept within the edge. Both
+ * untouched (returns 0) where the gradient vanishes or is not finite. */
 static inline int lanes_settle(const float *gx, const float *gy, const float *gz, const float *vl, float thr, float h,
                                float p[3], float nrm[3])
 {
@@ -47,7 +47,8 @@ static inline int lanes_settle(const float *gx, const float *gy, const float *gz
     if (!(len > 0.0f) || !isfinite(len)) return 0;
     const float e[3] = {nrm[0], nrm[1], nrm[2]};
     for (int a = 0; a < 3; a++) nrm[a] = o[a] / len;
-    /* the field falls along e at a root: (phi - thr) / (-grad phi . e) on */
+    /* the step along e: the field falls along it near the root (-grad phi .
+     * e = o . e > 0; where it does not, the vertex stays) */
     const float oe = o[0] * e[0] + o[1] * e[1] + o[2] * e[2];
     if (!(oe > 0.0f)) return 1;
     float s = (v - thr) / oe;

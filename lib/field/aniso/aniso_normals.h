@@ -8,9 +8,10 @@
  * from its inside node to its outside node, nrm holds on entry (the
  * marching's fallback normal): p moves along it by one Newton step onto
  * the level thr, (phi - thr) / (-grad phi . e), at most a quarter cube
- * and kept within the edge (JM_T_MIN from either node). Both untouched (returns 0) where the
- * gradient vanishes. The gradient and the value phi sum 8 float lanes
- * (lane t the kernels t mod 8, in order), then the lanes in order. */
+ * and kept within the edge (JM_T_MIN from either node). Both untouched
+ * (returns 0) where the gradient vanishes. The gradient and the value phi
+ * sum 8 float lanes (lane t the kernels t mod 8, in order), then the lanes
+ * in order. */
 int jm_aniso_normal(const jm_an_list *l, float thr, float h, float p[3], float nrm[3]);
 /* jm_aniso_normal at the vertices idx[0..count) of pos into nrm (3 floats
  * each), with the same bits (two vertices per pass where the CPU has
