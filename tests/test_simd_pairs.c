@@ -154,6 +154,8 @@ static void test_normals_pair_bits(void **state)
                 pos[3 * v + a] = node + t * h * (float)dv[a];
                 e[3 * v + a] = sign * (float)dv[a] / len;
             }
+            if (v == 1) /* kernel 0 centred on vertex 1, among the others: q = 0 there */
+                for (int a = 0; a < 3; a++) buf[8 * a] = pos[3 + a];
         }
         memcpy(p1, pos, 3 * nv * sizeof *pos);
         memcpy(p2, pos, 3 * nv * sizeof *pos);
