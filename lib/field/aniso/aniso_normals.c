@@ -9,21 +9,17 @@
 
 /*
  * Issue 31. The marching places a vertex where the line between two nodes'
- * values crosses the threshold. The anisotropic kernels, flattened along
- * a sheet, bend the field between the nodes more than the isotropic ones,
- * most along the long diagonals of the tetrahedra, so that error hangs on
- * where the lattice falls: a block moved by a quarter cube shimmered
- * 0.036 R (p99) with marching tetrahedra against the isotropic mesh's
- * 0.024 R. The normal's pass sums the field's gradient at the vertex
+ * values crosses the threshold. Flattened kernels bend the field between
+ * nodes more than round ones, most along the tetrahedra's long diagonals,
+ * so that error hangs on where the lattice falls and a moving input
+ * shimmers. The normal's pass sums the field's gradient at the vertex
  * anyway; its value beside it costs one more kernel term, and one Newton
  * step along the vertex's edge, t + (phi - threshold) / (-grad phi . e),
- * takes the vertex onto the field's surface to second order (0.009 R).
- * The vertex stays within its edge, between its inside and its outside
- * node (as far from them as the marching keeps it, JM_T_MIN): where the
- * linear estimate overshoots, a shell of the marching can never turn
- * inside out. And it moves at most a quarter cube: where the edge runs
- * nearly along the surface the step means little (unbounded, a few
- * vertices of the moved block jumped 0.13 R; bounded, none over 0.055 R).
+ * takes the vertex onto the surface to second order. The vertex stays
+ * within its edge (JM_T_MIN from either node), so no shell of the marching
+ * can turn inside out, and moves at most a quarter cube: where the edge
+ * runs nearly along the surface the step means little. (Figures: the man
+ * page's anisotropic section, `jetmesh bench --flicker`.)
  */
 #define AN_STEP_MAX 0.25f /* the most a vertex moves, in cubes */
 
