@@ -93,9 +93,15 @@
  *     sheet of one layer keeps its thickness. Scaled by k_s (aniso_scale,
  *     default 1), where the paper scales by an absolute k_s tuned to one
  *     particle spacing; G_i = (1/h) R diag(1/s_k) R^T. Every kernel keeps the
- *     isotropic volume (times k_s^3) and integral; bulk kernels stay
- *     isotropic, free-surface kernels flatten along the normal and widen
- *     along the surface; the longest axis is at most k_s k_r^(2/3) h.
+ *     isotropic kernel's integral, and its volume (times k_s^3) except at
+ *     rims (below); bulk kernels stay isotropic, free-surface kernels flatten
+ *     along the normal and widen along the surface; the longest axis is at
+ *     most k_s k_r^(2/3) h.
+ *   - Rims: away from m_i (outward), a kernel reaches no further than the
+ *     sphere k_s h: the axes longer than k_s shrink alike by the least
+ *     fraction that gives that, weighted from none at |d| = 0.5r to all at
+ *     1.5r. A sheet's edge then does not widen into the air toward a
+ *     droplet beside it and join it.
  *   - Droplets: n_i, the particles within the support 2h counted smoothly
  *     (1 within 3h/2, falling to 0 at 2h in the squared distance; one layer
  *     of particles has 8 to 10, a flat surface 15, bulk 23), blends the

@@ -62,7 +62,8 @@ static double mean_dihedral(const jm_mesh *m)
 static void usage(void)
 {
     fprintf(stderr, "usage: shells INPUT [-r R] [--cube C] [--mt] [-j N] [--only-aniso]\n"
-                    "  INPUT: a particle file, or sheet:LAYERS[:JITTER[:SEED[:GAP]]] (GAP > 0: droplets)\n"
+                    "  INPUT: a particle file, or sheet:LAYERS[:JITTER[:SEED[:GAP]]] (GAP > 0: droplets\n"
+                    "  over the sheet, < 0: beside its rim)\n"
                     "Prints, for the isotropic and the anisotropic SPH field: triangles, shells, inner\n"
                     "shells (enclosed by another) and their area in r^2, negative shells, volume, and\n"
                     "the corners whose normal faces away from their triangle.\n");
@@ -100,7 +101,8 @@ int main(int argc, char **argv)
         unsigned seed = 1;
         int side = 24;
         sscanf(argv[1] + 6, "%d:%f:%u:%f:%d", &layers, &jit, &seed, &gap, &side);
-        n = test_sheet(layers, side, r, jit * r, seed, gap > 0, gap, &xyz, NULL);
+        /* gap > 0: droplets over the sheet; gap < 0: beside its rim */
+        n = test_sheet(layers, side, r, jit * r, seed, gap > 0 ? 1 : (gap < 0 ? 2 : 0), fabsf(gap), &xyz, NULL);
     } else {
         char err[512];
         jmf_read_options o;

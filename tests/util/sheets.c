@@ -40,12 +40,18 @@ size_t test_sheet(int layers, int side, float r, float jitter, unsigned seed, in
                 p[3 * m + 2] = (float)q[2];
                 m++;
             }
-    /* droplets over the top face, 8r apart along x, around the middle, the
-     * lowest particle of each gap r over the top layer */
+    /* droplets 8r apart, around the middle: over the top face, the lowest
+     * particle of each gap r over the top layer (droplets 1), or beside the
+     * rim at the last column, in the sheet's mid-plane, the nearest particle
+     * gap r out from the column (droplets 2) */
+    const int axis = droplets == 2 ? 0 : 2;
     for (int d = 0; droplets && d < TEST_SHEET_DROPLETS; d++) {
         float low = 0;
-        for (int k = 0; k < test_sheet_drop_size[d]; k++) low = drop_shape[d][k][2] < low ? drop_shape[d][k][2] : low;
-        const double base[3] = {side - 12.0 + 8.0 * d, side - 1.0, 2.0 * (layers - 1) + gap - low};
+        for (int k = 0; k < test_sheet_drop_size[d]; k++)
+            low = drop_shape[d][k][axis] < low ? drop_shape[d][k][axis] : low;
+        const double along = side - 12.0 + 8.0 * d;
+        const double base[3] = {axis == 0 ? 2.0 * (side - 1) + gap - low : along, axis == 0 ? along : side - 1.0,
+                                axis == 0 ? layers - 1.0 : 2.0 * (layers - 1) + gap - low};
         double c[3] = {0, 0, 0};
         for (int k = 0; k < test_sheet_drop_size[d]; k++) {
             for (int a = 0; a < 3; a++) {

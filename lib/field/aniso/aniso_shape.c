@@ -38,6 +38,10 @@
 #define JM_AN_MOVE_HI 10.0
 #define JM_AN_SHAPE_LO 2.0
 #define JM_AN_SHAPE_HI 5.0
+/* jm_an_rim: the mean's offset (in r) from which a kernel counts as a rim's,
+ * fully from the second */
+#define JM_AN_RIM_LO 0.5
+#define JM_AN_RIM_HI 1.5
 
 void jm_an_near_radius(const jm_config *c, float *S2, float *invB)
 {
@@ -87,4 +91,46 @@ void jm_an_axes(const jm_config *c, const double val[3], double alpha, double s[
     }
     /* alpha blends toward the sphere, geometrically (the product stays) */
     for (int k = 0; k < 3; k++) s[k] = c->an_ks * (alpha < 1.0 ? pow(s[k], alpha) : s[k]);
+}
+
+/* (the sphere's reach / the kernel's reach)^2 along a direction with squared
+ * cosines d2 to the axes s, the axes wider than the sphere (ks) shortened by
+ * the fraction b: rises with b, and is at least 1 at b = 1 */
+static double rim_f(const double s[3], const double d2[3], double ks, double b)
+{
+    double f = 0.0;
+    for (int k = 0; k < 3; k++) {
+        const double q = s[k] > ks ? ks + (s[k] - ks) * (1.0 - b) : s[k];
+        f += d2[k] * (ks / q) * (ks / q);
+    }
+    return f;
+}
+
+/* Issue 31: a rim's kernels (a sheet's edge, a filament's end) widen along
+ * the liquid, past the rim into the air, and joined to it the droplets that
+ * the isotropic field keeps apart. Outward is away from the neighbourhood's
+ * weighted mean; the axes wider than the sphere shrink alike by the least
+ * fraction that brings the reach that way back to the sphere's, weighted by
+ * the mean's offset (none under 0.5 r, where its direction is noise; all
+ * from 1.5 r). The caller keeps the integral: no liquid is lost. */
+void jm_an_rim(const jm_config *c, const double R[9], const double mean[3], double s[3])
+{
+    const double ml = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+    const double w = ramp(ml / c->r, JM_AN_RIM_LO, JM_AN_RIM_HI), ks = c->an_ks;
+    if (w <= 0.0) return;
+    /* d2: the squared cosines of the outward direction with the axes */
+    double d2[3];
+    for (int k = 0; k < 3; k++) {
+        const double d = (R[k] * mean[0] + R[3 + k] * mean[1] + R[6 + k] * mean[2]) / ml;
+        d2[k] = d * d;
+    }
+    double lo = 0.0, hi = 1.0;
+    if (rim_f(s, d2, ks, 0.0) >= 1.0) return;
+    for (int it = 0; it < 30; it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (rim_f(s, d2, ks, mid) < 1.0) lo = mid;
+        else hi = mid;
+    }
+    for (int k = 0; k < 3; k++)
+        if (s[k] > ks) s[k] = ks + (s[k] - ks) * (1.0 - w * hi);
 }

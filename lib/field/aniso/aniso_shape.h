@@ -32,4 +32,11 @@ double jm_an_shape_weight(double near);
  * kernel along the eigenvectors of its neighbourhood's covariance, from its
  * eigenvalues val (descending) and the shape weight alpha. */
 void jm_an_axes(const jm_config *c, const double val[3], double alpha, double s[3]);
+
+/* Shortens the axes s (from jm_an_axes) of a kernel at the rim of its
+ * neighbourhood so that it reaches no further out, away from the
+ * neighbourhood's weighted mean (mean, relative to the particle), than the
+ * sphere: R the axes' unit vectors as columns (R[3 a + k]: component a of
+ * axis k). The caller keeps the kernel's integral. */
+void jm_an_rim(const jm_config *c, const double R[9], const double mean[3], double s[3]);
 #endif

@@ -65,6 +65,7 @@ static void an_kernel(const jm_config *c, const float xi[3], const jm_an_acc *a,
     if (val && val[0] > 0.0) {
         jm_an_axes(c, val, jm_an_shape_weight(a->near - 1.0), s);
         memcpy(R, vec, sizeof R);
+        jm_an_rim(c, R, mean, s);
     }
     /* M = R diag(1 / (h s_k)^2) R^T; box half-side along axis a:
      * 2 sqrt((M^-1)_aa) = 2 h sqrt(sum_k s_k^2 R_ak^2) */
