@@ -1,4 +1,4 @@
-/* aniso_shape.c - an anisotropic kernel's axes and how far its centre moves: the neighbourhood's shape, held back where it would open air pockets, thin a sheet or lose a droplet. */
+/* aniso_shape.c - an anisotropic kernel's axes and how far its centre moves: the neighbourhood's shape, held back where it would open air pockets, thin a sheet, lose a droplet or reach past a rim. */
 #include "field/aniso/aniso_shape.h"
 #include <math.h>
 
