@@ -11,12 +11,9 @@
 /* internal (white-box test): the rule under test */
 #include "../lib/field/aniso/aniso_shape.h"
 #include "../lib/core/sym3.h"
+#include "util/meshcheck.h"
 
-static double drand(unsigned *s)
-{
-    *s = *s * 1103515245u + 12345u;
-    return (double)((*s >> 8) & 0xFFFFFF) / (double)0x1000000;
-}
+static double drand(unsigned *s) { return (double)mc_randf(s); }
 
 /* the kernel's reach (relative to h) along unit direction u: 1 / |diag(1/s) R^T u| */
 static double reach(const double R[9], const double s[3], const double u[3])

@@ -50,8 +50,9 @@ size_t test_sheet(int layers, int side, float r, float jitter, unsigned seed, in
         for (int k = 0; k < test_sheet_drop_size[d]; k++)
             low = drop_shape[d][k][axis] < low ? drop_shape[d][k][axis] : low;
         const double along = side - 12.0 + 8.0 * d;
-        const double base[3] = {axis == 0 ? 2.0 * (side - 1) + gap - low : along, axis == 0 ? along : side - 1.0,
-                                axis == 0 ? layers - 1.0 : 2.0 * (layers - 1) + gap - low};
+        double base[3] = {along, side - 1.0, 2.0 * (layers - 1) + gap - low}; /* over the top face */
+        if (droplets == 2) /* beside the last column, in the mid-plane */
+            base[0] = 2.0 * (side - 1) + gap - low, base[1] = along, base[2] = layers - 1.0;
         double c[3] = {0, 0, 0};
         for (int k = 0; k < test_sheet_drop_size[d]; k++) {
             for (int a = 0; a < 3; a++) {
