@@ -101,10 +101,17 @@ static const mesh_option table[] = {
      "                              as splashsurf's 25): bumps of particle size\n"
      "                              removed, no point moved over 0.5 R along its\n"
      "                              normal, each piece's volume restored\n",
-     "      --smooth [N], --smooth-normals [N], --simplify E  post-processing, as convert\n"},
+     "      --smooth [N], --smooth-normals [N], --smooth-implicit, --simplify E\n"
+     "                              post-processing, as convert\n"},
     {"smooth-normals", MO_SMOOTH_NORMALS, MO_COUNT, BOTH, 0, 100000, 10, "from 0 to 100000", NULL,
      M(smooth_normal_iterations), {0, 0, 0, NULL}, NULL,
      "      --smooth-normals [N]    N iterations of normal smoothing (default 10)\n", NULL},
+    {"smooth-implicit", MO_SMOOTH_IMPLICIT, MO_FLAG, BOTH, 0, 0, 0, NULL, NULL, M(smooth_implicit), {0, 0, 0, NULL},
+     NULL,
+     "      --smooth-implicit       with --smooth: the steady smoother, for animations:\n"
+     "                              a moving liquid's surface shimmers no more than\n"
+     "                              unsmoothed (about twice the post-processing time)\n",
+     NULL},
     {"simplify", MO_SIMPLIFY, MO_FLOAT, BOTH, 0, 1000, 0, "from 0 to 1000", NULL, M(simplify_error),
      {0, 0, 0, NULL}, NULL,
      "      --simplify E            fewer triangles, at most E*R from the mesh (e.g. 0.1)\n", NULL},

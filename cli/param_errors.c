@@ -22,6 +22,7 @@ static const struct {
     {"anisotropic", "--anisotropic"},
     {"smooth_iterations", "--smooth"},
     {"smooth_normal_iterations", "--smooth-normals"},
+    {"smooth_implicit", "--smooth-implicit"},
     {"simplify_error", "--simplify"},
     {"threads", "--threads"},
     {"uv_mode", "--uv"},

@@ -153,6 +153,13 @@ for a in "-r 0" "-c 0" "-j 99999" "--smoothing-length 0" "--link-distance 0" "--
     range_named bench $a
 done
 echo "ok: every numeric option names its range"
+# --smooth-implicit alone would smooth nothing: a usage error naming --smooth
+for cmd in "convert $S/jet_050.csv -r 0.025 -o $T/r.obj" "bench --scene jet"; do
+    # shellcheck disable=SC2086
+    "$J" $cmd --smooth-implicit >"$T/out" 2>"$T/err"
+    [ $? = 2 ] && grep -q -- "--smooth-implicit needs --smooth" "$T/err" ||
+        { cat "$T/err"; fail "$cmd --smooth-implicit without --smooth: not a usage error"; }
+done
 
 # 10. a write error on standard output fails the run, said once on stderr
 #     (the per-frame lines scripts parse were lost silently, exit 0)

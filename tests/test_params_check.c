@@ -74,11 +74,14 @@ static void test_each_member(void **state)
     p = base(); p.uv_scale = 1.2e-38f;        refused(p, "uv_scale", 1e-6f * 0.025f, HUGE_VAL);
     p = base(); p.uv_scale = 1e-6f * 0.025f;  accepted(p);
     p = base(); p.uv_axis = 4;                refused(p, "uv_axis", 0, 3);
+    p = base(); p.smooth_implicit = 2;        refused(p, "smooth_implicit", 0, 1);
+    p = base(); p.smooth_implicit = -1;       refused(p, "smooth_implicit", 0, 1);
 
     /* the range's ends and the defaults are accepted */
     p = base(); p.cube_size = 1e-3f; p.smoothing_length = 100; accepted(p);
     p = base(); p.cube_size = 100; p.threshold = 0.999f; accepted(p);
     p = base(); p.threshold = -0.999f; p.link_distance = 0; p.uv_axis = 3; accepted(p);
+    p = base(); p.smooth_implicit = 1; accepted(p); /* without smooth_iterations: nothing to do */
     p = base(); p.field = JM_FIELD_SPH; p.threshold = 0; accepted(p);
     p = base(); p.field = JM_FIELD_SPH; p.threshold = 5; accepted(p); /* legal, maybe empty */
 }

@@ -163,6 +163,21 @@ static void test_ball_orange_peel(void **state)
     test_mesh_free(&raw);
     test_mesh_free(&sm);
 
+    /* the steady smoothing (--smooth-implicit) as much: 0.154 r of 0.328 r */
+    p.smooth_implicit = 1;
+    mesh_with(xyz, n, p, &sm);
+    if (!mc_check(&sm.mesh, &r1)) fail_msg("ball smoothed by the implicit steps: %s", r1.problem);
+    assert_int_equal(r1.normals_away, 0);
+    sphere_stats(&sm.mesh, NULL, 0, &sd1, &a1);
+    dv = (r1.volume - r0.volume) / r0.volume;
+    printf("ball of %zu particles, --smooth-implicit: radial sd %.3f r -> %.3f r, normals p95 %.1f -> %.1f deg, "
+           "volume %+.2f %%\n", n, sd0 / R, sd1 / R, a0, a1, 100 * dv);
+    assert_true(sd1 <= 0.48 * sd0);
+    assert_true(a1 <= 10.0);
+    assert_true(fabs(dv) <= 0.02);
+    test_mesh_free(&sm);
+    p.smooth_implicit = 0;
+
     /* the metasphere (marching tetrahedra) smooths too; at spacing 2r its
      * balls only touch, a porous sponge, so a denser ball (spacing 1.2r; its
      * outer surface: small voids inside are pieces of their own) */
@@ -539,28 +554,32 @@ static void test_threads_same_bytes(void **state)
     (void)state;
     size_t n;
     float *xyz = make_ball(2.0f, &n);
-    for (int f = JM_FIELD_METASPHERE; f <= JM_FIELD_SPH; f++) {
-        test_mesh one, many;
-        jm_params p = {0};
-        p.radius = R;
-        p.field = (jm_field)f;
-        p.method = JM_METHOD_MC;
-        p.smooth_iterations = 25;
-        p.smooth_normal_iterations = 10;
-        p.simplify_error = 0.1f;
-        p.threads = 1;
-        mesh_with(xyz, n, p, &one);
-        p.threads = 3;
-        mesh_with(xyz, n, p, &many);
-        assert_int_equal(one.mesh.vertex_count, many.mesh.vertex_count);
-        assert_int_equal(one.mesh.triangle_count, many.mesh.triangle_count);
-        assert_memory_equal(one.positions, many.positions, 3 * one.mesh.vertex_count * sizeof(float));
-        assert_memory_equal(one.normals, many.normals, 3 * one.mesh.vertex_count * sizeof(float));
-        assert_memory_equal(one.uvs, many.uvs, 2 * one.mesh.vertex_count * sizeof(float));
-        assert_memory_equal(one.indices, many.indices, 3 * one.mesh.triangle_count * sizeof(uint32_t));
-        test_mesh_free(&one);
-        test_mesh_free(&many);
-    }
+    /* the explicit steps (marching cubes), the steady smoothing with both
+     * methods (marching tetrahedra: fans of over 8 triangles) */
+    for (int f = JM_FIELD_METASPHERE; f <= JM_FIELD_SPH; f++)
+        for (int k = 0; k < 3; k++) {
+            test_mesh one, many;
+            jm_params p = {0};
+            p.radius = R;
+            p.field = (jm_field)f;
+            p.method = k == 2 ? JM_METHOD_MT : JM_METHOD_MC;
+            p.smooth_implicit = k > 0;
+            p.smooth_iterations = 25;
+            p.smooth_normal_iterations = 10;
+            p.simplify_error = 0.1f;
+            p.threads = 1;
+            mesh_with(xyz, n, p, &one);
+            p.threads = 3;
+            mesh_with(xyz, n, p, &many);
+            assert_int_equal(one.mesh.vertex_count, many.mesh.vertex_count);
+            assert_int_equal(one.mesh.triangle_count, many.mesh.triangle_count);
+            assert_memory_equal(one.positions, many.positions, 3 * one.mesh.vertex_count * sizeof(float));
+            assert_memory_equal(one.normals, many.normals, 3 * one.mesh.vertex_count * sizeof(float));
+            assert_memory_equal(one.uvs, many.uvs, 2 * one.mesh.vertex_count * sizeof(float));
+            assert_memory_equal(one.indices, many.indices, 3 * one.mesh.triangle_count * sizeof(uint32_t));
+            test_mesh_free(&one);
+            test_mesh_free(&many);
+        }
     free(xyz);
 }
 

@@ -97,6 +97,7 @@ typedef struct jm_config {
     int an_neps;
     int smooth_iters;        /* post.h: feature-weighted smoothing iterations */
     int smooth_normal_iters; /* normal smoothing iterations */
+    int smooth_implicit;     /* 1: the steady smoothing (smooth.c) */
     float simplify_error;    /* world units; 0 = no simplification */
     /* metasphere vertices (metavertex.c) */
     float mv_tol;      /* a piece beating a vertex's value by more moves it (units of r) */

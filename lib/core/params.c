@@ -115,6 +115,7 @@ jm_status jm_config_resolve(const jm_params *in, jm_config *c, jm_params *f)
     }
     c->smooth_iters = p.smooth_iterations;
     c->smooth_normal_iters = p.smooth_normal_iterations;
+    c->smooth_implicit = p.smooth_implicit;
     c->simplify_error = p.simplify_error * r;
     c->unit_in = 1.0f; /* mesh.c sets the unit (units.h) */
     if (p.field == JM_FIELD_METASPHERE) jm_metavertex_config(c);

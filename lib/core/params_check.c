@@ -144,5 +144,7 @@ jm_status jm_params_check(const jm_params *p, jm_param_problem *out)
             return refuse(out, "mesh_aabb_clamp", p->mesh_aabb_clamp, 0, 0, 0, 0,
                           "0 unless the clip box (mesh_aabb_min/max) is set");
     }
+    if (p->smooth_implicit < 0 || p->smooth_implicit > 1)
+        return refuse(out, "smooth_implicit", p->smooth_implicit, 0, 0, 1, 0, "0 (off) or 1");
     return JM_OK;
 }

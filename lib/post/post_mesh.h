@@ -16,7 +16,7 @@ typedef struct jm_post_mesh {
 
 /* Working arrays of the post-processing, kept by the context from frame to
  * frame (fresh memory costs a page fault per 4 KiB on first touch). */
-#define JM_POST_BUFS 14
+#define JM_POST_BUFS 16
 typedef struct jm_post_scratch {
     void *p[JM_POST_BUFS];
     size_t bytes[JM_POST_BUFS];

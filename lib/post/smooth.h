@@ -115,6 +115,7 @@ typedef struct sm_job {
     const double *origin; /* per piece a point of it: 3 doubles (its volume sums about it) */
     const double *shift;  /* restoration: per piece its offset along dir */
     const float *band;    /* per piece: the largest |t| (smooth.c) */
+    float band_in;        /* the band inward, as a fraction of band: [-band_in band, band] */
     int normalise;        /* smooth_normals.c's last pass: make the normals unit */
     float tau;            /* this step's size (smooth_plan.c) */
     int clamp;            /* this step ends in the band (sm_plan_settled) */
@@ -174,6 +175,14 @@ int sm_plan_settled(int it, int total, int cycle_steps, int n);
 /* smooth_steps.c: one bounded step of size job->tau, job->src to job->dst. */
 void sm_step_task(void *arg, size_t chunk, int worker);
 
+/* smooth_implicit.c: out (4 per vertex) from x0 by one backward Euler step
+ * (M + dt K) out = M x0 of the cotangent Laplacian K, lumped mass M. */
+jm_status sm_implicit_step(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *job, const float *x0, float *out,
+                           float dt);
+/* smooth_tangential.c: `passes` passes of tangential relaxation from *a,
+ * through *b; the result in *a (the two swapped after each pass). */
+void sm_tangential(jm_pool *pool, sm_job *job, float **a, float **b, int passes);
+
 /* smooth_volume.c */
 void sm_restore_volumes(jm_pool *pool, sm_job *job, const double *vol0, const double *thick, double *work);
 void sm_piece_volumes(jm_pool *pool, sm_job *job, const float *P, double *out);
@@ -190,7 +199,7 @@ jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *jo
 /* smooth_scratch.c: buffer k of the scratch with room for at least `bytes`. */
 void *sm_scratch(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes);
 enum { SB_DEG, SB_INV, SB_NB8, SB_NC8, SB_BIG, SB_BNB, SB_A, SB_B, SB_DIR, SB_COMP, SB_ODD, SB_PIECE, SB_KEEP,
-       SB_FLAG, SB_COUNT };
+       SB_FLAG, SB_IMPL_W, SB_IMPL_V, SB_COUNT };
 _Static_assert(SB_COUNT == JM_POST_BUFS, "the scratch has a buffer per SB_ name");
 /* The post-processing's working arrays given back (smooth_scratch.c). */
 void jm_post_scratch_free(jm_post_scratch *s, jm_mem *mem);

@@ -20,9 +20,9 @@
 
 /* p moved back into the band [-b, b] along its raw normal: p + (clamp(t)
  * - t) n, t = p . dir; the fourth lane (1) stays. */
-static inline v4f into_band(v4f p, v4f dir, float b)
+static inline v4f into_band(v4f p, v4f dir, float b, float bin)
 {
-    const float t = sm_move(p, dir)[0], c = t < -b ? -b : (t > b ? b : t);
+    const float t = sm_move(p, dir)[0], c = t < -bin ? -bin : (t > b ? b : t);
     return p + (c - t) * sm_xyz(dir);
 }
 
@@ -46,7 +46,7 @@ static void step_one(const sm_job *job, size_t v)
         }
         p += job->tau * (sum * job->f.inv[v] - p);
         p[3] = 1.0f;
-        if (job->clamp) p = into_band(p, n, job->band[job->comp[v]]);
+        if (job->clamp) p = into_band(p, n, job->band[job->comp[v]], job->band_in * job->band[job->comp[v]]);
     }
     sm_store4(&job->dst[4 * v], p);
 }
@@ -69,11 +69,11 @@ JM_BODY void sm_step_task_body(void *arg, size_t chunk, int worker)
             sm_store4(&D[4 * v], p + job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p));
         }
     for (uint32_t k = r->chunk_run[chunk]; job->clamp && k < r->chunk_run[chunk + 1]; k++) {
-        const float b = job->band[r->piece[k]];
+        const float b = job->band[r->piece[k]], bin = job->band_in * b;
         for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
             v4f p = sm_load4(&S[4 * v]);
             p += job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p);
-            sm_store4(&D[4 * v], into_band(p, sm_load4(&N[4 * v]), b));
+            sm_store4(&D[4 * v], into_band(p, sm_load4(&N[4 * v]), b, bin));
         }
     }
     const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;

@@ -14,7 +14,7 @@ JM_BODY void volume_task_body(void *arg, size_t chunk, int worker)
     size_t kb = sm_lower_bound(job->f.big, job->f.nbig, chunk * SM_CH);
     for (uint32_t k = r->chunk_run[chunk]; k < r->chunk_run[chunk + 1]; k++) {
         const double *o = &job->origin[3 * (size_t)r->piece[k]];
-        const float bound = job->band[r->piece[k]];
+        const float bound = job->band[r->piece[k]], inward = job->band_in * bound;
         double vol = 0.0, grow = 0.0, shrink = 0.0;
         for (size_t v = r->first[k]; v < r->first[k + 1]; v++) {
             const float *p = &P[4 * v];
@@ -22,7 +22,7 @@ JM_BODY void volume_task_body(void *arg, size_t chunk, int worker)
             vol += ((double)p[0] - o[0]) * a[0] + ((double)p[1] - o[1]) * a[1] + ((double)p[2] - o[2]) * a[2];
             const float t = sm_move(sm_load4(p), n)[0], d = sm_dot3(n, a);
             if (t < bound) grow += d;
-            if (t > -bound) shrink += d;
+            if (t > -inward) shrink += d;
         }
         r->sum[SM_RUN_SUMS * k] = vol;
         r->sum[SM_RUN_SUMS * k + 1] = grow;
@@ -55,12 +55,12 @@ JM_BODY void offset_task_body(void *arg, size_t chunk, int worker)
     sm_job *job = arg;
     const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
     for (size_t v = a; v < b; v++) {
-        const float bound = job->band[job->comp[v]];
+        const float bound = job->band[job->comp[v]], inward = job->band_in * bound;
         const v4f n = sm_load4(&job->dir[4 * v]);
         v4f p = sm_load4(&job->src[4 * v]);
         const float t = sm_move(p, n)[0];
         float u = t + (float)job->shift[job->comp[v]];
-        u = u < -bound ? -bound : (u > bound ? bound : u);
+        u = u < -inward ? -inward : (u > bound ? bound : u);
         p += (u - t) * sm_xyz(n);
         sm_store4(&job->dst[4 * v], p);
     }
