@@ -1,5 +1,5 @@
 #!/bin/sh
-# t_splat_variants.sh - every vector level of the one CPU dispatch (plain C, SSE2, AVX2, AVX-512: the field kernels, the interior proofs, the metasphere's probe, normals and finish, the interpolated attributes) and the build with the plain kernels only give byte-identical meshes.
+# t_splat_variants.sh - every vector level of the one CPU dispatch (plain C, SSE2, AVX2, AVX-512: the field kernels, the interior proofs, the metasphere's probe, normals and finish, the interpolated attributes, both smoothings) and the build with the plain kernels only give byte-identical meshes.
 set -e
 root=${JETMESH_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 cd "$root"
@@ -17,6 +17,7 @@ cases() {
   echo "meta samples/jet/jet_099.csv -r 0.025"
   echo "aniso $in -r 0.025 --field sph --anisotropic --method mc"
   echo "smooth $in -r 0.025 --field sph --method mc --smooth 25 --smooth-normals 10"
+  echo "steady $in -r 0.025 --field sph --method mt --smooth 25 --smooth-normals 10 --smooth-implicit"
   echo "block $tmp/block.xyz $bargs"
   echo "attrs $in -r 0.025 --field sph --method mc --attributes velocity"
 }
