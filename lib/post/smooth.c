@@ -112,9 +112,9 @@ static jm_status plain_steps(jm_mem *mem, jm_pool *pool, sm_job *job, float **pa
  * relaxation even the triangles; one backward Euler step of dt = N 0.275
  * h^2 (h the cube's edge) per 25 iterations (smooth_implicit.c); each
  * piece's volume restored before the band (a piece's uniform shrinkage
- * would otherwise take the band up), with two more tangential passes
- * before the last; then two plain bounded steps take off what the lattice
- * left at the scale of a cube. The band is a quarter narrower inward: the
+ * would otherwise take the band up), with one more tangential pass before
+ * the last; then two plain bounded steps take off what the lattice left at
+ * the scale of a cube. The band is a quarter narrower inward: the
  * outline of settled fluid (a tank's edges) then pulls in no more than
  * splashsurf's. Measured on ../shared's seven real frames, the jittered
  * balls and the flicker (BENCHMARKS.md): kappa 0.25 roughens the balls,
@@ -122,7 +122,8 @@ static jm_status plain_steps(jm_mem *mem, jm_pool *pool, sm_job *job, float **pa
  */
 #define STEADY_KAPPA 0.275
 #define STEADY_PER 25 /* iterations per implicit step */
-#define STEADY_TANGENTIAL 2
+#define STEADY_BEFORE 2 /* tangential passes before the implicit steps */
+#define STEADY_AFTER 1  /* ... and after the last (2 measured the same, 1 slightly steadier) */
 #define STEADY_TAIL 2
 #define STEADY_INWARD 0.75f
 static jm_status steady_steps(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *job, float **pa, float **pb,
@@ -131,14 +132,14 @@ static jm_status steady_steps(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, s
     const int n = job->c->smooth_iters, outer = n < STEADY_PER ? 1 : (n + STEADY_PER / 2) / STEADY_PER;
     const float h = job->c->h, dt = (float)(n * STEADY_KAPPA * h * h / outer);
     job->band_in = STEADY_INWARD;
-    sm_tangential(pool, job, pa, pb, STEADY_TANGENTIAL);
+    sm_tangential(pool, job, pa, pb, STEADY_BEFORE);
     for (int o = 0; o < outer; o++) {
         jm_status st = sm_implicit_step(mem, pool, sc, job, *pa, *pb, dt);
         if (st != JM_OK) return st;
         float *t = *pa;
         *pa = *pb;
         *pb = t;
-        if (o == outer - 1) sm_tangential(pool, job, pa, pb, STEADY_TANGENTIAL);
+        if (o == outer - 1) sm_tangential(pool, job, pa, pb, STEADY_AFTER);
         sm_recentre(pool, job, *pa, vol0, work);
     }
     for (int i = 0; i < STEADY_TAIL; i++) {
