@@ -53,6 +53,8 @@ JM_BODY float tri_cots(const float *P, size_t v, size_t q, size_t r, float *at_r
  * q[i]) / 2, into w[i]; its diagonal and mass. A fan of over FAN_MAX
  * triangles (none on a lattice mesh) stays put. */
 #define FAN_MAX 64
+typedef int32_t v8i __attribute__((vector_size(32)));
+typedef float v8f __attribute__((vector_size(32)));
 JM_BODY void fan_weights(cg_job *g, size_t v, const uint32_t *q, const uint32_t *r, int sh, uint32_t d, float *w)
 {
     float at_q[FAN_MAX], mass = 0.0f, sum = 0.0f;
@@ -62,12 +64,17 @@ JM_BODY void fan_weights(cg_job *g, size_t v, const uint32_t *q, const uint32_t 
         return;
     }
     for (uint32_t i = 0; i < d; i++) mass += tri_cots(g->x0, v, q[i] >> sh, r[i] >> sh, &w[i], &at_q[i]) / 6.0f;
-    if (d <= 8) { /* fixed 8 by 8, no branch: the padding's weights are 0 */
-        float wq[8] = {0.0f};
-        for (uint32_t j = d; j < 8; j++) at_q[j] = 0.0f;
-        for (int j = 0; j < 8; j++)
-            for (int i = 0; i < 8; i++) wq[i] += q[i] == r[j] ? at_q[j] : 0.0f;
-        for (uint32_t i = 0; i < d; i++) w[i] += wq[i];
+    if (d <= 8) { /* the row of 8 against each r[j], 8 lanes at once: the padding's weights are 0 */
+        v8i qv, wq = {0, 0, 0, 0, 0, 0, 0, 0};
+        memcpy(&qv, q, sizeof qv);
+        for (uint32_t j = 0; j < d; j++) {
+            int32_t a;
+            memcpy(&a, &at_q[j], sizeof a);
+            wq = (v8i)((v8f)wq + (v8f)((qv == (v8i){0} + (int32_t)r[j]) & a));
+        }
+        float add[8];
+        memcpy(add, &wq, sizeof add);
+        for (uint32_t i = 0; i < d; i++) w[i] += add[i];
     } else {
         for (uint32_t j = 0; j < d; j++)
             for (uint32_t i = 0; i < d; i++)
