@@ -60,6 +60,13 @@ static inline v4f sm_add_slots8(v4f acc, const float *S, const uint32_t *q)
     return acc;
 }
 
+/* The end of task `chunk`'s vertices [chunk * SM_CH, end). */
+static inline size_t sm_chunk_end(size_t nv, size_t chunk)
+{
+    const size_t e = (chunk + 1) * SM_CH;
+    return e < nv ? e : nv;
+}
+
 /* The first of the n increasing entries of list that is at least a. */
 static inline size_t sm_lower_bound(const uint32_t *list, size_t n, size_t a)
 {

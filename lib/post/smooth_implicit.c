@@ -31,6 +31,7 @@ typedef struct cg_job {
     double *part;     /* 4 per chunk: this pass's sums */
     v4f alpha, beta;
     float dt;
+    int pass;         /* CG_START ... */
 } cg_job;
 
 /* Triangle (v, q, r) of positions P: half the cotangents of its angles at r
@@ -99,7 +100,7 @@ JM_BODY void weights_body(void *arg, size_t chunk, int worker)
     (void)worker;
     cg_job *g = arg;
     const sm_job *job = g->job;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, e = sm_chunk_end(job->nv, chunk);
     size_t kb = sm_lower_bound(job->f.big, job->f.nbig, a);
     for (size_t v = a; v < e; v++) {
         const uint32_t d = job->f.deg[v];
@@ -135,77 +136,75 @@ JM_BODY v4f apply(const cg_job *g, const float *y, size_t v, size_t *kb)
 
 static inline v4f precondition(const cg_job *g, v4f r, size_t v) { return g->inv[v] * r; }
 
-/* a chunk's sum (in float, in vertex order) kept in double */
-static inline void put_part(double *part, v4f s) { part[0] = s[0], part[1] = s[1], part[2] = s[2]; }
+
+/* The passes of the conjugate gradients, vertex by vertex; each returns
+ * its share of the pass's sum. */
+enum { CG_START, CG_AP, CG_UPDATE, CG_DIRECTION };
 
 /* r = M x0 - A x0, p = r / diag, x = x0; sums r . p */
-JM_BODY void start_body(void *arg, size_t chunk, int worker)
+JM_BODY v4f start_vertex(cg_job *g, size_t v, size_t *kb)
 {
-    (void)worker;
-    cg_job *g = arg;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < g->job->nv ? a + SM_CH : g->job->nv;
-    size_t kb = sm_lower_bound(g->job->f.big, g->job->f.nbig, a);
-    v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (size_t v = a; v < e; v++) {
-        const v4f x = sm_load4(&g->x0[4 * v]);
-        v4f r = g->mass[v] * x - apply(g, g->x0, v, &kb);
-        r[3] = 0.0f;
-        if (g->inv[v] == 0.0f) r = (v4f){0.0f, 0.0f, 0.0f, 0.0f};
-        const v4f z = precondition(g, r, v);
-        sm_store4(&g->x[4 * v], x);
-        sm_store4(&g->r[4 * v], r);
-        sm_store4(&g->p[4 * v], z);
-        sum += r * z;
-    }
-    put_part(&g->part[4 * chunk], sum);
+    const v4f x = sm_load4(&g->x0[4 * v]);
+    v4f r = g->mass[v] * x - apply(g, g->x0, v, kb);
+    r[3] = 0.0f;
+    if (g->inv[v] == 0.0f) r = (v4f){0.0f, 0.0f, 0.0f, 0.0f};
+    const v4f z = precondition(g, r, v);
+    sm_store4(&g->x[4 * v], x);
+    sm_store4(&g->r[4 * v], r);
+    sm_store4(&g->p[4 * v], z);
+    return r * z;
 }
-JM_KERNEL_AVX2(static, void, start_task, start_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* ap = A p; sums p . ap */
-JM_BODY void ap_body(void *arg, size_t chunk, int worker)
+JM_BODY v4f ap_vertex(cg_job *g, size_t v, size_t *kb)
 {
-    (void)worker;
-    cg_job *g = arg;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < g->job->nv ? a + SM_CH : g->job->nv;
-    size_t kb = sm_lower_bound(g->job->f.big, g->job->f.nbig, a);
-    v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (size_t v = a; v < e; v++) {
-        const v4f ap = apply(g, g->p, v, &kb);
-        sm_store4(&g->ap[4 * v], ap);
-        sum += sm_load4(&g->p[4 * v]) * ap;
-    }
-    put_part(&g->part[4 * chunk], sum);
+    const v4f ap = apply(g, g->p, v, kb);
+    sm_store4(&g->ap[4 * v], ap);
+    return sm_load4(&g->p[4 * v]) * ap;
 }
-JM_KERNEL_AVX2(static, void, ap_task, ap_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* x += alpha p, r -= alpha ap; sums r . r / diag */
-JM_BODY void update_body(void *arg, size_t chunk, int worker)
+JM_BODY v4f update_vertex(cg_job *g, size_t v)
 {
-    (void)worker;
-    cg_job *g = arg;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < g->job->nv ? a + SM_CH : g->job->nv;
-    v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
-    for (size_t v = a; v < e; v++) {
-        const v4f p = sm_load4(&g->p[4 * v]);
-        sm_store4(&g->x[4 * v], sm_load4(&g->x[4 * v]) + g->alpha * p);
-        const v4f r = sm_load4(&g->r[4 * v]) - g->alpha * sm_load4(&g->ap[4 * v]);
-        sm_store4(&g->r[4 * v], r);
-        sum += r * precondition(g, r, v);
-    }
-    put_part(&g->part[4 * chunk], sum);
+    const v4f p = sm_load4(&g->p[4 * v]);
+    sm_store4(&g->x[4 * v], sm_load4(&g->x[4 * v]) + g->alpha * p);
+    const v4f r = sm_load4(&g->r[4 * v]) - g->alpha * sm_load4(&g->ap[4 * v]);
+    sm_store4(&g->r[4 * v], r);
+    return r * precondition(g, r, v);
 }
-JM_KERNEL_AVX2(static, void, update_task, update_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
 
 /* p = r / diag + beta p */
-JM_BODY void direction_body(void *arg, size_t chunk, int worker)
+JM_BODY v4f direction_vertex(cg_job *g, size_t v)
+{
+    sm_store4(&g->p[4 * v], precondition(g, sm_load4(&g->r[4 * v]), v) + g->beta * sm_load4(&g->p[4 * v]));
+    return (v4f){0.0f, 0.0f, 0.0f, 0.0f};
+}
+
+/* Pass g->pass over one chunk; its sum (in float, in vertex order) kept
+ * in double for the chunk. */
+JM_BODY void pass_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     cg_job *g = arg;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < g->job->nv ? a + SM_CH : g->job->nv;
-    for (size_t v = a; v < e; v++)
-        sm_store4(&g->p[4 * v], precondition(g, sm_load4(&g->r[4 * v]), v) + g->beta * sm_load4(&g->p[4 * v]));
+    const size_t a = chunk * SM_CH, e = sm_chunk_end(g->job->nv, chunk);
+    size_t kb = sm_lower_bound(g->job->f.big, g->job->f.nbig, a);
+    v4f sum = {0.0f, 0.0f, 0.0f, 0.0f};
+    switch (g->pass) { /* the loop in each case: no branch per vertex */
+    case CG_START: for (size_t v = a; v < e; v++) sum += start_vertex(g, v, &kb); break;
+    case CG_AP: for (size_t v = a; v < e; v++) sum += ap_vertex(g, v, &kb); break;
+    case CG_UPDATE: for (size_t v = a; v < e; v++) sum += update_vertex(g, v); break;
+    default: for (size_t v = a; v < e; v++) sum += direction_vertex(g, v);
+    }
+    double *part = &g->part[4 * chunk];
+    part[0] = sum[0], part[1] = sum[1], part[2] = sum[2];
 }
-JM_KERNEL_AVX2(static, void, direction_task, direction_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
+JM_KERNEL_AVX2(static, void, pass_task, pass_body, (void *arg, size_t chunk, int worker), (arg, chunk, worker))
+
+static void run_pass(jm_pool *pool, cg_job *g, int pass)
+{
+    g->pass = pass;
+    sm_run_ranges(pool, g->job->nchunks, pass_task, g);
+}
 
 /* The chunks' sums, added in chunk order: 3 lanes. */
 static v4f total(const cg_job *g)
@@ -232,22 +231,22 @@ jm_status sm_implicit_step(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_j
     /* r, p (with its row of 0), ap: 4 per vertex each; then the sums */
     float *vec = sm_scratch(sc, mem, SB_IMPL_V, (3 * nv + 1) * 4 * sizeof *vec + 4 * nc * sizeof(double) + 16);
     if (!w || !vec) return JM_E_OUT_OF_MEMORY;
-    cg_job g = {.job = job, .w8 = w, .diag = w + 8 * nv, .mass = w + 9 * nv, .inv = w + 10 * nv, .bw = w + 11 * nv, .x0 = x0, .x = out,
-                .r = vec, .p = vec + 4 * nv, .ap = vec + 8 * nv + 4, .dt = dt};
+    cg_job g = {.job = job, .w8 = w, .diag = w + 8 * nv, .mass = w + 9 * nv, .inv = w + 10 * nv, .bw = w + 11 * nv,
+                .x0 = x0, .x = out, .r = vec, .p = vec + 4 * nv, .ap = vec + 8 * nv + 4, .dt = dt};
     g.part = (double *)(((uintptr_t)(vec + 12 * nv + 4) + 15) & ~(uintptr_t)15);
     memset(&g.p[4 * nv], 0, 4 * sizeof *g.p);
     sm_run_ranges(pool, nc, weights_task, &g);
-    sm_run_ranges(pool, nc, start_task, &g);
+    run_pass(pool, &g, CG_START);
     v4f rz = total(&g);
     for (int it = 0; it < CG_ITERS; it++) {
-        sm_run_ranges(pool, nc, ap_task, &g);
+        run_pass(pool, &g, CG_AP);
         g.alpha = ratio(rz, total(&g));
-        sm_run_ranges(pool, nc, update_task, &g);
+        run_pass(pool, &g, CG_UPDATE);
         const v4f rz1 = total(&g);
         if (it + 1 == CG_ITERS) break;
         g.beta = ratio(rz1, rz);
         rz = rz1;
-        sm_run_ranges(pool, nc, direction_task, &g);
+        run_pass(pool, &g, CG_DIRECTION);
     }
     for (size_t v = 0; v < nv; v++) out[4 * v + 3] = 1.0f;
     return JM_OK;

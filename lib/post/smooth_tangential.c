@@ -16,7 +16,7 @@ JM_BODY void tangential_body(void *arg, size_t chunk, int worker)
     (void)worker;
     sm_job *job = arg;
     const float *S = job->src;
-    const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, e = sm_chunk_end(job->nv, chunk);
     size_t kb = sm_lower_bound(job->f.big, job->f.nbig, a);
     for (size_t v = a; v < e; v++) {
         const uint32_t d = job->f.deg[v];
