@@ -12,7 +12,8 @@
  * wavelength L by 1 / (1 + dt (2 pi / L)^2), free of the explicit steps'
  * limit on dt, which the marching cubes' slivers would make tiny. Jacobi-
  * preconditioned conjugate gradients, each coordinate its own, run a fixed
- * number of iterations from x0 (20: with 8 to 10 the flicker comes back):
+ * number of iterations from x0 (20; under 18 the flicker of marching
+ * tetrahedra's meshes rises past the unsmoothed mesh's, issue 31):
  * the same work and the same bits every time. Every sum is per chunk (in
  * vertex order), the chunks' added in chunk order in double: the same for
  * any thread count.
