@@ -20,7 +20,8 @@
  * (smooth_volume.c): no piece can lose more than the band lets it; and no
  * triangle stays turned over (smooth_guard.c). The iterations are those of
  * plain Laplacian smoothing, run in fewer passes (smooth_plan.c); normals:
- * smooth_normals.c.
+ * smooth_normals.c. --smooth-implicit replaces the steps by implicit ones
+ * whose surface does not shimmer over a sequence (steady_steps below).
  */
 /* the band's half width, in r: the most a vertex moves along its raw
  * normal. 0.46 r keeps the 99th percentile of the move below splashsurf's
@@ -116,8 +117,8 @@ static jm_status plain_steps(jm_mem *mem, jm_pool *pool, sm_job *job, float **pa
  * the last; then two plain bounded steps take off what the lattice left at
  * the scale of a cube. The band is a quarter narrower inward: the
  * outline of settled fluid (a tank's edges) then pulls in no more than
- * splashsurf's. Measured on ../shared's seven real frames, the jittered
- * balls and the flicker (BENCHMARKS.md): kappa 0.25 roughens the balls,
+ * splashsurf's. Chosen on ../shared's seven real frames, the jittered
+ * balls and the flicker (issue 31's notes): kappa 0.25 roughens the balls,
  * 0.30 raises the flicker of marching tetrahedra to the raw mesh's.
  */
 #define STEADY_KAPPA 0.275

@@ -18,8 +18,9 @@
  * marching cubes' slivers.
  */
 
-/* p moved back into the band [-b, b] along its raw normal: p + (clamp(t)
- * - t) n, t = p . dir; the fourth lane (1) stays. */
+/* p moved back into the band [-bin, b] along its raw normal (bin = b but
+ * for the steady smoothing, smooth.c): p + (clamp(t) - t) n, t = p . dir;
+ * the fourth lane (1) stays. */
 static inline v4f into_band(v4f p, v4f dir, float b, float bin)
 {
     const float t = sm_move(p, dir)[0], c = t < -bin ? -bin : (t > b ? b : t);
