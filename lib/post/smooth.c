@@ -80,29 +80,21 @@ JM_KERNEL_AVX2(static, void, frame_task, frame_task_body, (void *arg, size_t chu
 static jm_status plain_steps(jm_mem *mem, jm_pool *pool, sm_job *job, float **pa, float **pb, const double *vol0,
                              double *work)
 {
-    float *a = *pa, *b = *pb;
     float *tau = NULL;
     int cyc;
     const int nsteps = sm_plan(job->c->smooth_iters, mem, &tau, &cyc);
     if (nsteps < 0) return JM_E_OUT_OF_MEMORY;
     for (int it = 0; it < nsteps; it++) {
-        job->src = a;
-        job->dst = b;
         job->tau = tau[it];
         /* the band after each plain step and each cycle; between cycles each
          * piece's volume first (its shrinkage adds up over several) */
         const int settled = sm_plan_settled(it, nsteps, cyc, job->c->smooth_iters);
         const int recentre = settled == 2 && sm_plan_settled(it + cyc, nsteps, cyc, job->c->smooth_iters) == 2;
         job->clamp = settled && !recentre;
-        sm_run_ranges(pool, job->nchunks, sm_step_task, job);
-        if (recentre) sm_recentre(pool, job, b, vol0, work);
-        float *t = a;
-        a = b;
-        b = t;
+        sm_run_swap(pool, job, sm_step_task, job, pa, pb);
+        if (recentre) sm_recentre(pool, job, *pa, vol0, work);
     }
     jm_free(mem, tau, (size_t)(nsteps > 0 ? nsteps : 0) * sizeof *tau);
-    *pa = a;
-    *pb = b;
     return JM_OK;
 }
 
@@ -143,16 +135,9 @@ static jm_status steady_steps(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, s
         if (o == outer - 1) sm_tangential(pool, job, pa, pb, STEADY_AFTER);
         sm_recentre(pool, job, *pa, vol0, work);
     }
-    for (int i = 0; i < STEADY_TAIL; i++) {
-        job->src = *pa;
-        job->dst = *pb;
-        job->tau = 1.0f;
-        job->clamp = 1;
-        sm_run_ranges(pool, job->nchunks, sm_step_task, job);
-        float *t = *pa;
-        *pa = *pb;
-        *pb = t;
-    }
+    job->tau = 1.0f;
+    job->clamp = 1;
+    for (int i = 0; i < STEADY_TAIL; i++) sm_run_swap(pool, job, sm_step_task, job, pa, pb);
     return JM_OK;
 }
 

@@ -157,9 +157,24 @@ static inline v4f sm_fan_area(const sm_job *job, const float *P, size_t v, size_
     return n;
 }
 
+/* The sum of vertex v's neighbours' rows of S (4 floats each, a -0
+ * sentinel row at nv), its slots of 8 or its whole big fan in fan order;
+ * *k walks the big vertices (the first at least v), as sm_fan_area. */
+static inline v4f sm_neighbour_sum(const sm_job *job, const float *S, size_t v, size_t *k)
+{
+    if (job->f.deg[v] <= 8) return sm_add_slots8(SM_NEG0, S, &job->f.nb8[8 * v]);
+    v4f sum = SM_NEG0;
+    for (uint32_t i = job->f.bstart[*k]; i < job->f.bstart[*k + 1]; i++) sum += sm_load4(&S[4 * (size_t)job->f.bnb[i]]);
+    ++*k;
+    return sum;
+}
+
 /* smooth_scratch.c: a pass over the chunks, each thread the same contiguous
  * range every pass (the lines it wrote stay in its cache). */
 void sm_run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, void *arg);
+/* ... a pass of fn(arg) from *src into *dst (job->src, job->dst), then
+ * the two swapped: the result in *src. */
+void sm_run_swap(jm_pool *pool, sm_job *job, jm_task_fn fn, void *arg, float **src, float **dst);
 
 /* smooth_fans.c */
 jm_status sm_fans_build(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, const jm_post_mesh *m, sm_fan *f);

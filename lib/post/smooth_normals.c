@@ -170,13 +170,8 @@ jm_status sm_normals(jm_mem *mem, jm_pool *pool, jm_post_scratch *sc, sm_job *jo
         job->src = a;
         sm_run_ranges(pool, job->nchunks, nmask_task, &nj);
         for (int it = 0; it < nsteps; it++) {
-            job->src = a;
-            job->dst = b;
             job->tau = tau[it];
-            sm_run_ranges(pool, job->nchunks, nstep_task, &nj);
-            float *t = a;
-            a = b;
-            b = t;
+            sm_run_swap(pool, job, nstep_task, &nj, &a, &b);
         }
         narrow(job->m->nrm, a, nv);
         jm_free(mem, tau, (size_t)nsteps * sizeof *tau);

@@ -13,6 +13,16 @@ void sm_run_ranges(jm_pool *pool, size_t nchunks, jm_task_fn fn, void *arg)
     jm_pool_run(pool, nchunks, (nchunks + t - 1) / t, fn, arg);
 }
 
+void sm_run_swap(jm_pool *pool, sm_job *job, jm_task_fn fn, void *arg, float **src, float **dst)
+{
+    job->src = *src;
+    job->dst = *dst;
+    sm_run_ranges(pool, job->nchunks, fn, arg);
+    float *t = *src;
+    *src = *dst;
+    *dst = t;
+}
+
 void *sm_scratch(jm_post_scratch *s, jm_mem *mem, int k, size_t bytes)
 {
     if (bytes == 0) bytes = 1;

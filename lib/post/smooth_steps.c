@@ -36,16 +36,8 @@ static void step_one(const sm_job *job, size_t v)
     const v4f n = sm_load4(&job->dir[4 * v]);
     v4f p = sm_load4(&S[4 * v]);
     if (d != 0 && sm_dot3(n, n) > 0.0f) {
-        v4f sum;
-        if (d <= 8) {
-            sum = sm_add_slots8(SM_NEG0, S, &job->f.nb8[8 * v]);
-        } else {
-            size_t b = sm_lower_bound(job->f.big, job->f.nbig, v);
-            sum = SM_NEG0;
-            for (uint32_t i = job->f.bstart[b]; i < job->f.bstart[b + 1]; i++)
-                sum += sm_load4(&S[4 * (size_t)job->f.bnb[i]]);
-        }
-        p += job->tau * (sum * job->f.inv[v] - p);
+        size_t b = d > 8 ? sm_lower_bound(job->f.big, job->f.nbig, v) : 0;
+        p += job->tau * (sm_neighbour_sum(job, S, v, &b) * job->f.inv[v] - p);
         p[3] = 1.0f;
         if (job->clamp) p = into_band(p, n, job->band[job->comp[v]], job->band_in * job->band[job->comp[v]]);
     }

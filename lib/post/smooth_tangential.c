@@ -19,20 +19,11 @@ JM_BODY void tangential_body(void *arg, size_t chunk, int worker)
     const size_t a = chunk * SM_CH, e = sm_chunk_end(job->nv, chunk);
     size_t kb = sm_lower_bound(job->f.big, job->f.nbig, a);
     for (size_t v = a; v < e; v++) {
-        const uint32_t d = job->f.deg[v];
-        const v4f p = sm_load4(&S[4 * v]);
-        v4f sum = SM_NEG0;
-        if (d <= 8) {
-            sum = sm_add_slots8(sum, S, &job->f.nb8[8 * v]);
-        } else {
-            for (uint32_t i = job->f.bstart[kb]; i < job->f.bstart[kb + 1]; i++)
-                sum += sm_load4(&S[4 * (size_t)job->f.bnb[i]]);
-            kb++;
-        }
+        const v4f p = sm_load4(&S[4 * v]), sum = sm_neighbour_sum(job, S, v, &kb);
         const v4f n = sm_xyz(sm_load4(&job->dir[4 * v]));
         v4f q = p;
-        if (d > 0 && sm_dot3(n, n) > 0.0f) {
-            v4f move = sm_xyz(sum * (1.0f / (float)d) - p);
+        if (job->f.deg[v] > 0 && sm_dot3(n, n) > 0.0f) {
+            v4f move = sm_xyz(sum * job->f.inv[v] - p);
             move -= sm_dot3(move, n) * n;
             q = p + move;
         }
@@ -44,12 +35,5 @@ JM_KERNEL_AVX2(static, void, tangential_task, tangential_body, (void *arg, size_
 
 void sm_tangential(jm_pool *pool, sm_job *job, float **a, float **b, int passes)
 {
-    for (int i = 0; i < passes; i++) {
-        job->src = *a;
-        job->dst = *b;
-        sm_run_ranges(pool, job->nchunks, tangential_task, job);
-        float *t = *a;
-        *a = *b;
-        *b = t;
-    }
+    for (int i = 0; i < passes; i++) sm_run_swap(pool, job, tangential_task, job, a, b);
 }
