@@ -266,6 +266,13 @@ int mesh_option_parse(const mesh_option *o, unsigned cmd, const char *arg, int a
     return rc;
 }
 
+int mesh_options_check(const char *cmd, const jm_params *p)
+{
+    if (p->smooth_implicit && p->smooth_iterations == 0)
+        return options_usage_error(cmd, "--smooth-implicit needs --smooth");
+    return OPTIONS_RUN;
+}
+
 static void help_one(FILE *f, unsigned cmd, const mesh_option *o)
 {
     const char *h = cmd == CLI_BENCH ? o->bench_help : o->help;

@@ -88,6 +88,10 @@ void mesh_option_store(const mesh_option *o, const mo_value *v, jm_params *p);
 /* mesh_option_value, then mesh_option_store. */
 int mesh_option_parse(const mesh_option *o, unsigned cmd, const char *arg, int argc, char **argv, jm_params *p);
 
+/* The meshing options' rules across options, for convert and bench alike:
+ * OPTIONS_RUN, or a usage error of cmd (options_usage_error). */
+int mesh_options_check(const char *cmd, const jm_params *p);
+
 /* Prints cmd's help lines: names NULL: every option of convert in table
  * order with the section headings; else the options named, in that order
  * (a NULL-terminated list). */

@@ -344,8 +344,9 @@ static int convert_finish(int argc, char **argv, convert_options *o, int radius_
         return options_usage_error(cmd, "--anisotropic works on the SPH field only: add --field sph");
     if (o->params.aniso_radius > 0 && !o->params.anisotropic)
         return options_usage_error(cmd, "--anisotropic-radius needs --anisotropic");
-    if (o->params.smooth_implicit && o->params.smooth_iterations == 0)
-        return options_usage_error(cmd, "--smooth-implicit needs --smooth");
+    const int mrc = mesh_options_check(cmd, &o->params);
+    if (mrc != OPTIONS_RUN)
+        return mrc;
     if (o->animate && o->shard.count > 0)
         return options_usage_error(cmd, "--animate writes the whole run into one file, which shards cannot "
                                         "share: convert shards to per-frame files, or animate in one run");

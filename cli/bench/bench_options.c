@@ -426,8 +426,9 @@ static int bench_finish(bench_opts *o, const parse_state *st)
         return options_usage_error(CMD, "%s needs a particle count N", kind_name(&st->pending));
     if (o->max_repeat < o->repeat)
         o->max_repeat = o->repeat;
-    if (o->params.smooth_implicit && o->params.smooth_iterations == 0)
-        return options_usage_error(CMD, "--smooth-implicit needs --smooth");
+    const int mrc = mesh_options_check(CMD, &o->params);
+    if (mrc != OPTIONS_RUN)
+        return mrc;
     if (o->ninputs == 0) {
         const char *suite[] = {"jet", "block:100000", "spray:10000"};
         for (size_t i = 0; i < 3; i++) {
