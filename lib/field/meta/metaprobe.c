@@ -5,6 +5,7 @@
 #include "field/meta/metavertex.h"
 #include "extract/tables.h"
 #include "core/cpu.h"
+#include "core/skew.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,34 +30,41 @@
 /* block.c's JM_T_MIN: vertices are kept this far (of the edge) from nodes */
 #define T_MIN 0.01f
 
-/* Grows the k arrays *a[i] (elements of esz[i] bytes) from oldn to newn
- * elements, all or none, counted in m (a failure leaves them as they were,
- * so the counts and the capacities stay in step). */
+/* Grows the k arrays *a[i] (elements of esz[i] bytes), one block whose
+ * first array is *a[0] (skew.h), from oldn to newn elements, counted in m
+ * (a failure leaves them as they were, so the counts and the capacities
+ * stay in step). */
 static int grow_all(jm_mem *m, void **a[], const size_t *esz, int k, size_t oldn, size_t newn)
 {
-    void *nw[5];
+    void *b = jm_alloc_lasting(m, jm_skew_bytes(esz, k, newn));
+    if (!b) return 0;
     for (int i = 0; i < k; i++) {
-        nw[i] = jm_alloc_lasting(m, newn * esz[i]);
-        if (!nw[i]) {
-            for (int j = 0; j < i; j++) jm_free(m, nw[j], newn * esz[j]);
-            return 0;
-        }
-    }
-    for (int i = 0; i < k; i++) {
-        if (*a[i]) memcpy(nw[i], *a[i], oldn * esz[i]);
-        jm_free(m, *a[i], oldn * esz[i]);
-        *a[i] = nw[i];
+        void *nw = jm_skew_at(b, esz, i, newn);
+        if (*a[i]) memcpy(nw, *a[i], oldn * esz[i]);
+        *a[i] = nw;
     }
     return 1;
 }
+
+/* gives back the block of k arrays of n elements that starts at p */
+static void free_all(jm_mem *m, void *p, const size_t *esz, int k, size_t n)
+{
+    if (p) jm_free(m, p, jm_skew_bytes(esz, k, n));
+}
+
+/* the per-vertex arrays (slot, t, part, pt) and the sorted ones (order,
+ * px, py, pz, vmax) */
+static const size_t vert_esz[4] = {sizeof(uint32_t), sizeof(float), sizeof(uint32_t), 3 * sizeof(float)};
+static const size_t sort_esz[5] = {sizeof(uint32_t), sizeof(float), sizeof(float), sizeof(float), sizeof(float)};
 
 int jm_probe_grow(jm_probe *pr, size_t v)
 {
     size_t nc = pr->cap ? 2 * pr->cap : 1024;
     while (nc <= v) nc *= 2;
     void **a[4] = {(void **)&pr->slot, (void **)&pr->t, (void **)&pr->part, (void **)&pr->pt};
-    const size_t esz[4] = {sizeof(uint32_t), sizeof(float), sizeof(uint32_t), 3 * sizeof(float)};
-    if (!grow_all(pr->mem, a, esz, 4, pr->cap, nc)) return 0;
+    void *old = pr->slot;
+    if (!grow_all(pr->mem, a, vert_esz, 4, pr->cap, nc)) return 0;
+    free_all(pr->mem, old, vert_esz, 4, pr->cap);
     pr->cap = nc;
     return 1;
 }
@@ -64,15 +72,8 @@ int jm_probe_grow(jm_probe *pr, size_t v)
 void jm_probe_free(jm_probe *pr)
 {
     jm_mem *m = pr->mem;
-    jm_free(m, pr->slot, pr->cap * sizeof(uint32_t));
-    jm_free(m, pr->t, pr->cap * sizeof(float));
-    jm_free(m, pr->part, pr->cap * sizeof(uint32_t));
-    jm_free(m, pr->pt, pr->cap * 3 * sizeof(float));
-    jm_free(m, pr->order, pr->capw * sizeof(uint32_t));
-    jm_free(m, pr->px, pr->capw * sizeof(float));
-    jm_free(m, pr->py, pr->capw * sizeof(float));
-    jm_free(m, pr->pz, pr->capw * sizeof(float));
-    jm_free(m, pr->vmax, pr->capw * sizeof(float));
+    free_all(m, pr->slot, vert_esz, 4, pr->cap);
+    free_all(m, pr->order, sort_esz, 5, pr->capw);
     jm_free(m, pr->pstart, pr->capp * sizeof(uint32_t));
     memset(pr, 0, sizeof *pr);
     pr->mem = m;
@@ -84,8 +85,9 @@ static int reserve(jm_probe *pr, size_t n, size_t parts)
         size_t nc = pr->capw ? 2 * pr->capw : 1024;
         while (nc < n) nc *= 2;
         void **a[5] = {(void **)&pr->order, (void **)&pr->px, (void **)&pr->py, (void **)&pr->pz, (void **)&pr->vmax};
-        const size_t esz[5] = {sizeof(uint32_t), sizeof(float), sizeof(float), sizeof(float), sizeof(float)};
-        if (!grow_all(pr->mem, a, esz, 5, pr->capw, nc)) return 0;
+        void *old = pr->order;
+        if (!grow_all(pr->mem, a, sort_esz, 5, pr->capw, nc)) return 0;
+        free_all(pr->mem, old, sort_esz, 5, pr->capw);
         pr->capw = nc;
     }
     /* the parts' starts, then four counts (cursors) per part */

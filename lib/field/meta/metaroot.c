@@ -1,6 +1,7 @@
 /* metaroot.c - a block's metasphere vertices on their lattice edges, 8 at a time: each piece's crossing in closed form (a ball) or by bracketed Newton steps (a half-neck). */
 #include "field/meta/metaroot.h"
 #include "core/lanes8.h"
+#include "core/skew.h"
 #include <math.h>
 #include <string.h>
 
@@ -196,27 +197,25 @@ int jm_roots_grow(jm_roots *r)
     return jm_roots_match(r, &o);
 }
 
+/* 8 floats and 2 + 4 indices a vertex, in one block (ax its start) with
+ * each array skewed (skew.h) */
+static const size_t roots_esz[11] = {4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 16};
+
 int jm_roots_match(jm_roots *r, const jm_roots *o)
 {
     if (o->cap <= r->cap) return 1;
-    const size_t nc = o->cap, oc = r->cap, f = sizeof(float), u = sizeof(uint32_t);
-    /* 8 floats and 2 + 4 indices a vertex, in one block (ax its start) */
-    char *b = jm_alloc_lasting(r->mem, nc * (8 * f + 6 * u)), *old = (char *)r->ax;
+    const size_t nc = o->cap, oc = r->cap;
+    char *b = jm_alloc_lasting(r->mem, jm_skew_bytes(roots_esz, 11, nc)), *old = (char *)r->ax;
     if (!b) return 0;
-    float **fl[8] = {&r->ax, &r->ay, &r->az, &r->bx, &r->by, &r->bz, &r->fa, &r->t};
-    for (int k = 0; k < 8; k++) {
-        if (r->n) memcpy(b + (size_t)k * nc * f, *fl[k], r->n * f);
-        *fl[k] = (float *)(void *)(b + (size_t)k * nc * f);
+    void **a[11] = {(void **)&r->ax, (void **)&r->ay, (void **)&r->az, (void **)&r->bx, (void **)&r->by,
+                    (void **)&r->bz, (void **)&r->fa, (void **)&r->t, (void **)&r->c0, (void **)&r->c1,
+                    (void **)&r->list};
+    for (int k = 0; k < 11; k++) {
+        void *nw = jm_skew_at(b, roots_esz, k, nc);
+        if (r->n && k < 10) memcpy(nw, *a[k], r->n * roots_esz[k]);
+        *a[k] = nw;
     }
-    char *ui = b + 8 * nc * f;
-    if (r->n) {
-        memcpy(ui, r->c0, r->n * u);
-        memcpy(ui + nc * u, r->c1, r->n * u);
-    }
-    r->c0 = (uint32_t *)(void *)ui;
-    r->c1 = (uint32_t *)(void *)(ui + nc * u);
-    r->list = (uint32_t *)(void *)(ui + 2 * nc * u);
-    jm_free(r->mem, old, oc * (8 * f + 6 * u));
+    if (old) jm_free(r->mem, old, jm_skew_bytes(roots_esz, 11, oc));
     r->cap = nc;
     return 1;
 }
@@ -224,7 +223,7 @@ int jm_roots_match(jm_roots *r, const jm_roots *o)
 void jm_roots_free(jm_roots *r)
 {
     jm_mem *m = r->mem;
-    if (r->cap) jm_free(m, r->ax, r->cap * (8 * sizeof(float) + 6 * sizeof(uint32_t)));
+    if (r->cap) jm_free(m, r->ax, jm_skew_bytes(roots_esz, 11, r->cap));
     memset(r, 0, sizeof *r);
     r->mem = m;
 }
