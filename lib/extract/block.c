@@ -35,7 +35,7 @@ int jm_scratch_init(jm_scratch *s, int B)
     memset(s, 0, sizeof *s);
     s->B = B;
     s->f = malloc(nn * sizeof *s->f);
-    s->in = malloc(nn + JM_IN_SLACK);
+    s->in = calloc(1, nn + JM_IN_SLACK); /* (defined bytes past a row's end) */
     s->win = malloc(nn * sizeof *s->win);
     s->pad = malloc(n * n * JM_PAD(n) * sizeof *s->pad);
     s->rowstate = malloc(n * n);
@@ -265,14 +265,14 @@ static const float *sample_block(const jm_block_env *env, size_t b, jm_scratch *
  * row's span, proven inside), and per node row whether it is all outside
  * (0), all inside (1) or mixed (2) into s->rowstate. splat_rows: the
  * metasphere's rows no piece reached (metasplat.h, in rowstate until read
- * here) are all outside. Returns how many nodes are inside. */
+ * here) are all outside: their flags are not written (the marching reads
+ * a row of zeros for every row all outside). Returns how many nodes are
+ * inside. */
 static size_t classify(jm_scratch *s, const float *fv, size_t fs, const uint8_t *span, float thr, int splat_rows)
 {
     const int n = s->B + 1;
-    const size_t nn = (size_t)n * n * n;
     size_t inside = 0;
     uint8_t *rs = s->rowstate;
-    if (splat_rows) memset(s->in, 0, nn);
     for (size_t r = 0; r < (size_t)n * n; r++) {
         const float *f = fv + r * fs;
         uint8_t *in = s->in + r * (size_t)n;
@@ -422,6 +422,10 @@ static inline int march_cube(const march_job *m, const jm_case_table *tab, size_
     return 1;
 }
 
+/* the inside flags of a node row all outside, and the bytes row_configs
+ * reads past it (rows of at most 33 nodes) */
+static const uint8_t zero_row[64 + JM_IN_SLACK];
+
 /* Every cube the surface cuts, row by row: a row of cubes between four node
  * rows all inside or all outside alike (s->rowstate) has no surface. */
 static void march(const march_job *m)
@@ -437,7 +441,8 @@ static void march(const march_job *m)
             size_t r0 = (size_t)k * sn + j;
             uint8_t a0 = rs[r0], a1 = rs[r0 + 1], a2 = rs[r0 + sn], a3 = rs[r0 + sn + 1];
             if (a0 != 2 && a0 == a1 && a0 == a2 && a0 == a3) continue;
-            const uint8_t *i00 = s->in + row, *i10 = i00 + sn, *i01 = i00 + sn2, *i11 = i01 + sn;
+            const uint8_t *i00 = a0 ? s->in + row : zero_row, *i10 = a1 ? s->in + row + sn : zero_row;
+            const uint8_t *i01 = a2 ? s->in + row + sn2 : zero_row, *i11 = a3 ? s->in + row + sn2 + sn : zero_row;
             uint8_t cfgs[32];
             for (uint32_t cut = row_configs(i00, i10, i01, i11, B, cfgs); cut; cut &= cut - 1) {
                 const int i = __builtin_ctz(cut);
