@@ -1,5 +1,7 @@
 /* metavertex.c - metasphere vertices: every piece near a point, settling onto the exact surface. */
 #include "field/meta/metavertex.h"
+#include "core/cpu.h"
+#include "core/lanes8.h"
 #include <math.h>
 #include <string.h>
 
@@ -71,9 +73,12 @@ static void near_add(near_set *ns, uint32_t id, float v)
     }
 }
 
-/* adds particle k's pieces whose value at p exceeds `level` */
-static void near_particle(const jm_grid *g, const jm_config *c, uint32_t k, const float p[3], float level,
-                          float rl2, float reach2, near_set *ns)
+/* adds particle k's pieces whose value at p exceeds `level`: its ball,
+ * then its half-necks in link order, 8 links a step (lanes8.h: each lane
+ * the float operations of one link's value, so the same bits as one at a
+ * time) */
+JM_L8 void near_particle(const jm_grid *g, const jm_config *c, uint32_t k, const float p[3], float level, float rl2,
+                         float reach2, near_set *ns)
 {
     const float *q = &g->pos[3 * (size_t)k];
     const float w[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
@@ -81,20 +86,25 @@ static void near_particle(const jm_grid *g, const jm_config *c, uint32_t k, cons
     if (!(d2 < reach2)) return;
     const float inv_r = 1.0f / c->r;
     if (d2 < rl2) near_add(ns, k, 1.0f - sqrtf(d2) * inv_r);
-    for (uint32_t e = g->nb_start[k]; e < g->nb_start[k + 1]; e++) {
-        const float *u = &g->nb_dir[4 * (size_t)e];
-        float s = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
-        if (!(s >= 0.0f && s <= 0.5f * u[3])) continue;
-        float q2 = d2 - s * s;
-        if (!(q2 < rl2)) continue;
-        float v = jm_cos_quarter(s * inv_r) - sqrtf(q2 > 0.0f ? q2 : 0.0f) * inv_r;
-        if (v > level) near_add(ns, (uint32_t)g->n + e, v);
+    const uint32_t e0 = g->nb_start[k], e1 = g->nb_start[k + 1];
+    for (uint32_t e = e0; e < e1; e += JM_LANES) {
+        const int m = e1 - e < JM_LANES ? (int)(e1 - e) : JM_LANES;
+        v8f u0, u1, u2, half;
+        for (int l = 0; l < JM_LANES; l++) {
+            const float *u = &g->nb_dir[4 * (size_t)(e + (uint32_t)(l < m ? l : m - 1))];
+            u0[l] = u[0], u1[l] = u[1], u2[l] = u[2], half[l] = 0.5f * u[3];
+        }
+        const v8f s = w[0] * u0 + w[1] * u1 + w[2] * u2, q2 = d2 - s * s;
+        const v8f v = vcos(s * inv_r) - vsqrt(sel(q2 > 0.0f, q2, bc(0.0f))) * inv_r;
+        const v8i ok = (s >= 0.0f) & (s <= half) & (q2 < rl2) & (v > level);
+        for (int l = 0; l < m; l++)
+            if (ok[l]) near_add(ns, (uint32_t)g->n + e + (uint32_t)l, v[l]);
     }
 }
 
 /* Every piece whose value at p exceeds `level` (the NEAR best of them),
  * p being on the surface of piece win (or inside it). */
-static void near_scan(const jm_grid *g, const jm_config *c, const jm_hood *hood, uint32_t win, const float p[3],
+JM_L8 void near_scan(const jm_grid *g, const jm_config *c, const jm_hood *hood, uint32_t win, const float p[3],
                       float level, near_set *ns)
 {
     ns->n = 0;
@@ -170,8 +180,8 @@ static float set_root(const jm_grid *g, const jm_config *c, const uint32_t *set,
     return t;
 }
 
-float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, const uint32_t cand[2], uint32_t win,
-                     const float a[3], const float ab[3], float fa, float t)
+JM_BODY float settle_body(const jm_grid *g, const jm_config *c, const jm_hood *hood, const uint32_t cand[2], uint32_t win,
+                          const float a[3], const float ab[3], float fa, float t)
 {
     const float thr = c->threshold, tol = c->mv_tol, level = thr - tol;
     const float t_out = fa > 0.0f ? 1.0f : 0.0f, t_in = 1.0f - t_out;
@@ -208,3 +218,7 @@ float jm_meta_settle(const jm_grid *g, const jm_config *c, const jm_hood *hood, 
     }
     return t;
 }
+JM_KERNEL_AVX2(, float, jm_meta_settle, settle_body,
+               (const jm_grid *g, const jm_config *c, const jm_hood *hood, const uint32_t cand[2], uint32_t win,
+                const float a[3], const float ab[3], float fa, float t),
+               (g, c, hood, cand, win, a, ab, fa, t))
