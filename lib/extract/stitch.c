@@ -25,7 +25,7 @@ static void resolve_task(void *arg, size_t p, int worker)
     }
 }
 
-#define CHUNK 65536
+#define CHUNK 16384
 static void patch_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;

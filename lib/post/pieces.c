@@ -3,7 +3,7 @@
 
 /* Triangles or vertices a task; below two chunks of triangles, or on one
  * thread, the plain union-find. */
-#define PIECE_CHUNK ((size_t)1 << 16)
+#define PIECE_CHUNK ((size_t)1 << 13)
 
 static uint32_t find(uint32_t *p, uint32_t x)
 {
