@@ -25,7 +25,7 @@
  * order. A chunk keeps up to VOL_RUNS runs in its slots; one with more (a
  * spray of small pieces) is summed again into a list of its own size.
  */
-#define VOL_CHUNK ((size_t)1 << 15)
+#define VOL_CHUNK ((size_t)1 << 13)
 #define VOL_RUNS 256
 typedef struct {
     uint32_t root;
