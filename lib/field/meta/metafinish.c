@@ -409,6 +409,42 @@ static void fold0_task(void *arg, size_t k, int worker)
     }
 }
 
+/* The passes over every vertex, each vertex on its own: in chunks on the
+ * pool's threads. */
+#define VTX_CHUNK ((size_t)8192)
+typedef struct vtx_job {
+    const float *A; /* per vertex: sag * area, area */
+    float *D;
+    float *pos;
+    const float *nrm;
+    size_t nv;
+    float max_sag;
+} vtx_job;
+
+static void offset_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const vtx_job *V = arg;
+    const size_t e = (k + 1) * VTX_CHUNK < V->nv ? (k + 1) * VTX_CHUNK : V->nv;
+    for (size_t i = k * VTX_CHUNK; i < e; i++) {
+        float d = V->A[2 * i + 1] > 0.0f ? V->A[2 * i] / V->A[2 * i + 1] : 0.0f;
+        /* where the normals turn across a triangle more than a curved
+         * surface could (creases and folds finer than the cubes), the
+         * estimate means nothing: at most a tenth of a cube */
+        V->D[i] = d > V->max_sag ? V->max_sag : (d < -V->max_sag ? -V->max_sag : d);
+    }
+}
+
+/* each vertex moved by D along its normal */
+static void move_task(void *arg, size_t k, int worker)
+{
+    (void)worker;
+    const vtx_job *V = arg;
+    const size_t e = (k + 1) * VTX_CHUNK < V->nv ? (k + 1) * VTX_CHUNK : V->nv;
+    for (size_t i = k * VTX_CHUNK; i < e; i++)
+        for (int a = 0; a < 3; a++) V->pos[3 * i + a] += V->D[i] * V->nrm[3 * i + a];
+}
+
 /* Each vertex's offset D along its normal: the area-weighted mean sag of
  * its triangles, at most max_sag either way. */
 static int sag_offsets(jm_mem *mem, jm_pool *pool, fin *F, float *A, float *D, size_t nv, float max_sag)
@@ -432,13 +468,8 @@ static int sag_offsets(jm_mem *mem, jm_pool *pool, fin *F, float *A, float *D, s
     }
     jm_free(mem, F->as, bytes);
     F->as = F->area = NULL;
-    for (size_t i = 0; i < nv; i++) {
-        float d = A[2 * i + 1] > 0.0f ? A[2 * i] / A[2 * i + 1] : 0.0f;
-        /* where the normals turn across a triangle more than a curved
-         * surface could (creases and folds finer than the cubes), the
-         * estimate means nothing: at most a tenth of a cube */
-        D[i] = d > max_sag ? max_sag : (d < -max_sag ? -max_sag : d);
-    }
+    vtx_job V = {A, D, NULL, NULL, nv, max_sag};
+    jm_pool_run(pool, (nv + VTX_CHUNK - 1) / VTX_CHUNK, 1, offset_task, &V);
     return 1;
 }
 
@@ -553,9 +584,10 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
             R.hit = R.awl + R.capw;
             ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, flag, nv, &R);
         }
-        if (ok)
-            for (size_t i = 0; i < nv; i++)
-                for (int a = 0; a < 3; a++) pos[3 * i + a] += D[i] * nrm[3 * i + a];
+        if (ok) {
+            vtx_job V = {NULL, D, pos, nrm, nv, 0.0f};
+            jm_pool_run(pool, (nv + VTX_CHUNK - 1) / VTX_CHUNK, 1, move_task, &V);
+        }
     }
     if (ok && facing) {
         /* every triangle's facing at the moved positions: where the rounds
