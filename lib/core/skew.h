@@ -6,10 +6,9 @@
 /* Per-vertex arrays of a power-of-two capacity (a multiple of 4 KiB each)
  * would share their offset within every page: a vertex's stores to ten of
  * them would all land in one set of the 8-way L1 cache and evict each
- * other (measured: 7 % of the jet's time for one group of ten). Array i of
- * a block starts i * JM_SKEW bytes past the end of array i - 1's
- * capacity: three cache lines, so up to 21 arrays of one element size map
- * their k-th elements to different sets. */
+ * other. Array i of a block starts JM_SKEW bytes past the end of array
+ * i - 1's capacity: three cache lines, so up to 21 arrays of one element
+ * size map their k-th elements to different sets. */
 #define JM_SKEW ((size_t)192)
 
 /* The bytes of a block of k arrays of n elements of esz[i] bytes. */
