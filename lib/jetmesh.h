@@ -502,7 +502,7 @@ typedef struct jm_params {
                                  a moving input shimmers no more than the
                                  unsmoothed mesh (the explicit steps' about
                                  2.4 times as much). Its post-processing
-                                 takes about 2.5 times as long. 0 = off */
+                                 takes 2.5 to 3 times as long. 0 = off */
 } jm_params;
 
 /** Borrowed view of one frame's particles; the library never keeps it. */
