@@ -77,7 +77,7 @@ JM_BODY void flag_task_body(void *arg, size_t chunk, int worker)
     (void)worker;
     guard_job *g = arg;
     const sm_fan *f = &g->job->f;
-    const size_t a = chunk * SM_CH, b = a + SM_CH < g->job->nv ? a + SM_CH : g->job->nv;
+    const size_t a = chunk * SM_CH, b = sm_chunk_end(g->job->nv, chunk);
     size_t k = sm_lower_bound(f->big, f->nbig, a);
     uint32_t n = 0;
     for (size_t v = a; v < b; v++) {

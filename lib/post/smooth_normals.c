@@ -8,7 +8,7 @@ JM_BODY void fan_normal_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
-    const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, b = sm_chunk_end(job->nv, chunk);
     size_t k = sm_lower_bound(job->f.big, job->f.nbig, a);
     for (size_t v = a; v < b; v++) {
         const v4f n = sm_fan_area(job, job->src, v, &k);
@@ -39,7 +39,7 @@ JM_BODY void nmask_task_body(void *arg, size_t chunk, int worker)
     const float *S = job->src;
     const uint32_t *deg = job->f.deg, *nb8 = job->f.nb8, sent = 2 * (uint32_t)job->nv;
     uint32_t *nm8 = job->f.nc8;
-    const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, b = sm_chunk_end(job->nv, chunk);
     size_t bk = sm_lower_bound(job->f.big, job->f.nbig, a);
     for (size_t v = a; v < b; v++) {
         const v4f n = sm_load4(&S[4 * v]);
@@ -77,7 +77,7 @@ JM_BODY void nstep_task_body(void *arg, size_t chunk, int worker)
     const float *S = job->src, *ninv = job->f.inv;
     float *D = job->dst;
     const uint32_t *nm8 = job->f.nc8;
-    const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, b = sm_chunk_end(job->nv, chunk);
     const float tau = job->tau;
     for (size_t v = a; v < b; v++) {
         const v4f n = sm_load4(&S[4 * v]);
@@ -107,7 +107,7 @@ static void finish_task(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
-    const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, b = sm_chunk_end(job->nv, chunk);
     if (job->normalise)
         for (size_t v = a; v < b; v++) {
             float *n = &job->m->nrm[3 * v];

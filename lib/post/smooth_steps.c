@@ -57,7 +57,7 @@ JM_BODY void sm_step_task_body(void *arg, size_t chunk, int worker)
     const sm_runs *r = &job->runs;
     float *D = job->dst;
     if (!job->clamp) /* within a super time stepping cycle: no band (smooth_plan.c) */
-        for (size_t v = chunk * SM_CH, e = v + SM_CH < job->nv ? v + SM_CH : job->nv; v < e; v++) {
+        for (size_t v = chunk * SM_CH, e = sm_chunk_end(job->nv, chunk); v < e; v++) {
             v4f p = sm_load4(&S[4 * v]);
             sm_store4(&D[4 * v], p + job->tau * (sm_add_slots8(SM_NEG0, S, &nb8[8 * v]) * inv[v] - p));
         }
@@ -69,7 +69,7 @@ JM_BODY void sm_step_task_body(void *arg, size_t chunk, int worker)
             sm_store4(&D[4 * v], into_band(p, sm_load4(&N[4 * v]), b, bin));
         }
     }
-    const size_t a = chunk * SM_CH, e = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, e = sm_chunk_end(job->nv, chunk);
     for (size_t i = sm_lower_bound(job->odd, job->nodd, a); i < job->nodd && job->odd[i] < e; i++)
         step_one(job, job->odd[i]);
 }

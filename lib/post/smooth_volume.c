@@ -53,7 +53,7 @@ JM_BODY void offset_task_body(void *arg, size_t chunk, int worker)
 {
     (void)worker;
     sm_job *job = arg;
-    const size_t a = chunk * SM_CH, b = a + SM_CH < job->nv ? a + SM_CH : job->nv;
+    const size_t a = chunk * SM_CH, b = sm_chunk_end(job->nv, chunk);
     for (size_t v = a; v < b; v++) {
         const float bound = job->band[job->comp[v]], inward = job->band_in * bound;
         const v4f n = sm_load4(&job->dir[4 * v]);
