@@ -62,7 +62,8 @@ LIB_OPT ?= -O3 -g -fno-math-errno -fno-trapping-math
 $(LIB_OBJ): OPT = $(LIB_OPT)
 # lanes8.h's vectors live in static functions only, inlined into each
 # CPU's clone: the note that passing them would change the ABI is moot
-$(BUILD)/lib/field/meta/metaroot.o $(BUILD)/lib/field/meta/metavertex.o $(BUILD)/lib/post/cavities.o: WARN += -Wno-psabi
+$(BUILD)/lib/field/meta/metaroot.o $(BUILD)/lib/field/meta/metavertex.o $(BUILD)/lib/post/cavities.o \
+  $(BUILD)/lib/post/smooth_implicit.o: WARN += -Wno-psabi
 
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)

@@ -1,5 +1,6 @@
 /* smooth_implicit.c - the steady smoothing's step: (M + dt K) x = M x0 with the cotangent Laplacian K, by conjugate gradients. */
 #include "post/smooth.h"
+#include "core/lanes8.h"
 
 /*
  * Issue 31. The bounded smoothing moves a vertex toward its neighbours'
@@ -55,8 +56,6 @@ JM_BODY float tri_cots(const float *P, size_t v, size_t q, size_t r, float *at_r
  * q[i]) / 2, into w[i]; its diagonal and mass. A fan of over FAN_MAX
  * triangles (none on a lattice mesh) stays put. */
 #define FAN_MAX 64
-typedef int32_t v8i __attribute__((vector_size(32)));
-typedef float v8f __attribute__((vector_size(32)));
 JM_BODY void fan_weights(cg_job *g, size_t v, const uint32_t *q, const uint32_t *r, int sh, uint32_t d, float *w)
 {
     float at_q[FAN_MAX], mass = 0.0f, sum = 0.0f;
