@@ -110,7 +110,7 @@ static const mesh_option table[] = {
      NULL,
      "      --smooth-implicit       with --smooth: the steady smoother, for animations:\n"
      "                              a moving liquid's surface shimmers no more than\n"
-     "                              unsmoothed (post-processing about 2.5x as long)\n",
+     "                              unsmoothed (post-processing 2.5 to 3x as long)\n",
      NULL},
     {"simplify", MO_SIMPLIFY, MO_FLOAT, BOTH, 0, 1000, 0, "from 0 to 1000", NULL, M(simplify_error),
      {0, 0, 0, NULL}, NULL,
