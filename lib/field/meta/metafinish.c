@@ -488,12 +488,14 @@ typedef struct rounds {
  * (zeroed after FOLD_HALVINGS rounds), until none does. Each zeroing round
  * zeroes a vertex of every folded triangle and a triangle of unmoved
  * vertices is not folded, so the rounds end. After the first round (every
- * triangle), a round looks only at the triangles with a vertex whose
- * offset has changed: the others keep the offsets with which that round
- * found them not folded. The first round also finds the triangles with a
- * corner away from their moved normal (awl), which the facing pass tests
- * again at the final positions. */
-static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint8_t *flag, size_t nv,
+ * triangle), a round tests only the triangles with a vertex the round
+ * before halved (hit[v], that round's number plus one): any other keeps
+ * the offsets with which it was last found not folded (a folded triangle
+ * has all three halved). They are among the triangles with a changed
+ * vertex (watch), which the facing pass needs too. The first round also
+ * finds the triangles with a corner away from their moved normal (awl),
+ * which the facing pass tests again at the final positions. */
+static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint32_t *hit, size_t nv,
                        rounds *R)
 {
     const size_t nt = F->nt;
@@ -504,8 +506,8 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
     F->D = D;
     jm_pool_run(pool, (nt + FIN_CHUNK - 1) / FIN_CHUNK, 1, fold0_task, F);
     memset(changed, 0, nv);
-    memset(flag, 0, nv);
-    for (int round = 0, all = 1;; round++) {
+    memset(hit, 0, nv * sizeof *hit);
+    for (uint32_t round = 0, all = 1;; round++) {
         size_t folded = 0, fresh = 0, nh = 0;
         /* round 0: the triangles its bits mark, in order; then the watched
          * ones (or all) tested */
@@ -517,6 +519,11 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
                 m = F->bits[j];
                 t = 16 * j;
             }
+            if (round) {
+                const uint32_t *v = idx + 3 * t;
+                /* (round + 1: halved last round and listed again in this one) */
+                if ((hit[v[0]] < round) & (hit[v[1]] < round) & (hit[v[2]] < round)) continue;
+            }
             for (uint32_t any = round ? 1 : (m | m >> 16) & 0xffffu; any; any &= any - 1) {
                 const int l = round ? 0 : __builtin_ctz(any);
                 const uint32_t *v = idx + 3 * (t + (size_t)l);
@@ -525,12 +532,12 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
                     else R->listed = 0;
                 }
                 if (round ? !folds(F->P, F->N, D, v, NULL) : !(m >> l & 1)) continue;
-                /* a folded triangle's vertices: changed, and flagged once */
+                /* a folded triangle's vertices: changed, and listed once */
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
                     changed[v[k]] = 1;
-                    if (!flag[v[k]]) {
-                        flag[v[k]] = 1;
+                    if (hit[v[k]] != round + 1) {
+                        hit[v[k]] = round + 1;
                         R->hit[nh++] = v[k];
                     }
                 }
@@ -543,10 +550,7 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
             if (all && round) R->listed = 0;
             break;
         }
-        for (size_t h = 0; h < nh; h++) {
-            D[R->hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[R->hit[h]] : 0.0f;
-            flag[R->hit[h]] = 0;
-        }
+        for (size_t h = 0; h < nh; h++) D[R->hit[h]] = round < FOLD_HALVINGS ? 0.5f * D[R->hit[h]] : 0.0f;
         if (!fresh) continue;
         R->nw = 0, all = 0; /* too many to list: every triangle */
         if (mark_triangles(pool, idx, nt, changed, R->tbits) > R->capw) all = 1;
@@ -562,9 +566,10 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
 int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv, const uint32_t *idx, size_t nt,
                    int compensate, int facing, float max_sag)
 {
-    /* per vertex: sag * area, area; then each vertex's offset D; the
-     * first nv bytes are the flags of the fold rounds and of the facing,
-     * the next nv those of the vertices changed by them */
+    /* per vertex: sag * area, area; then each vertex's offset D; once D
+     * is found, the first nv bytes are the flags of the facing, the next
+     * nv those of the vertices the fold rounds changed, and from byte 4 nv
+     * the round that last halved each vertex (plus one) */
     float *acc = jm_alloc(mem, (3 * nv + 1) * sizeof(float));
     if (!acc) return 0;
     float *D = acc + 2 * nv;
@@ -582,7 +587,7 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
         if (ok) {
             R.awl = R.watch + R.capw;
             R.hit = R.awl + R.capw;
-            ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, flag, nv, &R);
+            ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, (uint32_t *)(void *)(acc + nv), nv, &R);
         }
         if (ok) {
             vtx_job V = {NULL, D, pos, nrm, nv, 0.0f};
