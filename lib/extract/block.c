@@ -134,21 +134,42 @@ static int grow_vertices(jm_mem *mem, jm_bout *o)
     return 1;
 }
 
-/* Sorts (slot, index) pairs by slot. They are made in scan order, so
- * nearly sorted already: insertion sort is about linear here. */
-static void sort_pairs(uint32_t *p, size_t n)
+/* Sorts (slot, index) pairs by slot (distinct). They are made in scan
+ * order, nearly sorted, but a vertex on the block's bottom face often
+ * comes a row of the face before its neighbours: a few pairs by insertion,
+ * more by radix, 8 bits a pass (tmp: room for the n pairs). */
+static void sort_pairs(uint32_t *p, size_t n, uint32_t *tmp)
 {
-    for (size_t i = 1; i < n; i++) {
-        uint32_t k = p[2 * i], v = p[2 * i + 1];
-        size_t j = i;
-        while (j > 0 && p[2 * (j - 1)] > k) {
-            p[2 * j] = p[2 * (j - 1)];
-            p[2 * j + 1] = p[2 * (j - 1) + 1];
-            j--;
+    if (n < 32) {
+        for (size_t i = 1; i < n; i++) {
+            uint32_t k = p[2 * i], v = p[2 * i + 1];
+            size_t j = i;
+            while (j > 0 && p[2 * (j - 1)] > k) {
+                p[2 * j] = p[2 * (j - 1)];
+                p[2 * j + 1] = p[2 * (j - 1) + 1];
+                j--;
+            }
+            p[2 * j] = k;
+            p[2 * j + 1] = v;
         }
-        p[2 * j] = k;
-        p[2 * j + 1] = v;
+        return;
     }
+    uint32_t all = 0, *src = p, *dst = tmp;
+    for (size_t i = 0; i < n; i++) all |= p[2 * i];
+    for (int sh = 0; sh < 32 && all >> sh; sh += 8) {
+        size_t at[257] = {0};
+        for (size_t i = 0; i < n; i++) at[(src[2 * i] >> sh & 255) + 1]++;
+        for (int b = 0; b < 256; b++) at[b + 1] += at[b];
+        for (size_t i = 0; i < n; i++) {
+            const size_t o = at[src[2 * i] >> sh & 255]++;
+            dst[2 * o] = src[2 * i];
+            dst[2 * o + 1] = src[2 * i + 1];
+        }
+        uint32_t *t = src;
+        src = dst;
+        dst = t;
+    }
+    if (src != p) memcpy(p, src, 2 * n * sizeof *p);
 }
 
 /* in[i] = f[i] > thr for i in [i0, i1); returns how many are inside */
@@ -511,7 +532,7 @@ void jm_block_mesh(const jm_block_env *env, size_t b, jm_scratch *s, jm_bout *ou
     double t2 = jm_now_ms();
     out->t_extract = t2 - t1;
     if (out->failed) return;
-    sort_pairs(out->bmap, out->nb);
+    sort_pairs(out->bmap, out->nb, s->touched); /* (touched: free after the march) */
     if (!fo->finish(env, s, lo, hi, want_nrm, out)) { out->failed = 1; return; }
     if (c->uv_mode != JM_UV_NONE)
         jm_uv_all(c, out->pos, out->nrm, out->uv, out->nv);
