@@ -56,9 +56,7 @@ typedef struct jm_frame {
     jm_block_set bs;
     jm_block_env env;
     size_t nb, slots;      /* blocks (at least 1) and block outputs per batch */
-    size_t first, batch;   /* first block of the batch, and its blocks */
-    int one_batch;         /* every block in one batch (sweep.c) */
-    size_t unresolved;     /* pending pairs the sweep left to the stitch */
+    size_t first;          /* first block of the batch */
     size_t *vbase;         /* per block: first global vertex */
     uint32_t **bmap;       /* per block: sorted (slot, local) pairs */
     uint32_t *nbmap;

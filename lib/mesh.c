@@ -17,9 +17,6 @@
 #include <stdatomic.h>
 #include <string.h>
 
-/* a frame of at most this many blocks is swept in one batch */
-#define JM_ONE_BATCH_BLOCKS 256
-
 static jm_status run(jm_context *ctx, const jm_config *c, const jm_particles *in, jm_stats *st);
 static jm_status make_template(jm_context *ctx);
 
@@ -71,11 +68,7 @@ static jm_status stage_prepare(jm_frame *f)
     f->vbase = jm_calloc(mem, f->nb, sizeof *f->vbase);
     f->bmap = jm_calloc(mem, f->nb, sizeof *f->bmap);
     f->nbmap = jm_calloc(mem, f->nb, sizeof *f->nbmap);
-    /* 32 block outputs a thread at a time, or every block of a small
-     * frame at once (the copy then resolves all its pending references:
-     * sweep.c) */
-    size_t slots = (size_t)ctx->threads * 32;
-    if (f->bs.count > slots && f->bs.count <= JM_ONE_BATCH_BLOCKS) slots = f->bs.count;
+    const size_t slots = (size_t)ctx->threads * 32;
     if (ctx->nbouts < slots) {
         jm_bout *b = jm_realloc_lasting(mem, ctx->bouts, ctx->nbouts * sizeof *b, slots * sizeof *b);
         if (b) {

@@ -2,29 +2,23 @@
 #include "extract/stitch.h"
 #include <string.h>
 
-uint32_t jm_stitch_find(const uint32_t *m, size_t n, uint32_t slot)
+static void resolve_task(void *arg, size_t p, int worker)
 {
+    (void)worker;
+    jm_frame *job = arg;
+    uint32_t owner = job->pend[2 * p], slot = job->pend[2 * p + 1];
+    const uint32_t *m = job->bmap[owner];
     /* the first entry not below slot, without a branch per halving (the
      * slots are distinct: the same entry as any binary search) */
-    size_t lo = 0, len = n;
+    size_t lo = 0, len = job->nbmap[owner];
     while (len > 1) {
         const size_t half = len / 2;
         lo = m[2 * (lo + half - 1)] < slot ? lo + half : lo;
         len -= half;
     }
     if (len == 1 && m[2 * lo] < slot) lo++;
-    return lo < n && m[2 * lo] == slot ? m[2 * lo + 1] : UINT32_MAX;
-}
-
-static void resolve_task(void *arg, size_t p, int worker)
-{
-    (void)worker;
-    jm_frame *job = arg;
-    uint32_t owner = job->pend[2 * p], slot = job->pend[2 * p + 1];
-    if (slot == JM_RESOLVED) return; /* by the sweep's copy */
-    const uint32_t at = jm_stitch_find(job->bmap[owner], job->nbmap[owner], slot);
-    if (at != UINT32_MAX) {
-        job->pend[2 * p] = (uint32_t)(job->vbase[owner] + at);
+    if (lo < job->nbmap[owner] && m[2 * lo] == slot) {
+        job->pend[2 * p] = (uint32_t)(job->vbase[owner] + m[2 * lo + 1]);
     } else {
         job->pend[2 * p] = 0;
         job->failed = 2;
@@ -47,7 +41,6 @@ static void patch_task(void *arg, size_t chunk, int worker)
 jm_status jm_frame_stitch(jm_frame *f)
 {
     jm_context *ctx = f->ctx;
-    if (!f->unresolved) return JM_OK; /* the sweep's copy resolved every one */
     jm_pool_run(ctx->pool, f->npend, 4096, resolve_task, f);
     if (f->failed) return JM_E_INTERNAL;
     for (size_t b = 0; b < f->bs.count; b++) { /* the owners' maps: done with */

@@ -1,9 +1,7 @@
-/* sweep.c - the frame's blocks meshed in batches on the pool's threads, each batch's outputs copied into the mesh (references within the batch resolved). */
+/* sweep.c - the frame's blocks meshed in batches on the pool's threads, each batch's outputs copied into the mesh. */
 #include "extract/sweep.h"
 #include "context.h"
 #include "grid/release.h"
-#include "extract/stitch.h"
-#include "core/cpu.h"
 #include <string.h>
 
 static void block_task(void *arg, size_t i, int worker)
@@ -11,24 +9,6 @@ static void block_task(void *arg, size_t i, int worker)
     jm_frame *job = arg;
     jm_block_mesh(&job->env, job->first + i, &job->ctx->scratch[worker], &job->ctx->bouts[i]);
 }
-
-/* A block's n references as the frame's: an owned vertex's after v0, a
- * pending one's from its pair's first entry (pend; NULL where the block
- * has none), without a branch on which are pending (a few, anywhere) */
-JM_BODY void refs_out_body(uint32_t *restrict dst, const uint32_t *restrict tri, size_t n, const uint32_t *restrict pend,
-                           uint32_t v0)
-{
-    if (!pend)
-        for (size_t t = 0; t < n; t++) dst[t] = v0 + tri[t];
-    else
-        for (size_t t = 0; t < n; t++) {
-            const uint32_t r = tri[t], p = 0u - (r >> 31);
-            dst[t] = (pend[2 * (r & ~JM_PENDING & p)] & p) | ((v0 + r) & ~p);
-        }
-}
-JM_KERNEL_V4(static, void, refs_out, refs_out_body,
-             (uint32_t *restrict dst, const uint32_t *restrict tri, size_t n, const uint32_t *restrict pend, uint32_t v0),
-             (dst, tri, n, pend, v0))
 
 static void copy_task(void *arg, size_t i, int worker)
 {
@@ -42,31 +22,14 @@ static void copy_task(void *arg, size_t i, int worker)
         memcpy(ctx->nrm + 3 * vb, o->nrm, o->nv * 3 * sizeof(float));
         memcpy(ctx->uv + 2 * vb, o->uv, o->nv * 2 * sizeof(float));
     }
-    /* the pending references to a block of this batch resolved here, the
-     * others left to the stitch (stitch.c) */
-    uint32_t *pend = job->pend + 2 * pb;
-    size_t left = 0;
-    for (size_t q = 0; q < o->np; q++) {
-        const uint32_t owner = o->pend[2 * q], slot = o->pend[2 * q + 1];
-        if (owner >= job->first && owner - job->first < job->batch) {
-            const size_t k = owner - job->first;
-            const jm_bout *ob = &ctx->bouts[k];
-            const uint32_t at = jm_stitch_find(ob->bmap, ob->nb, slot);
-            if (at == UINT32_MAX) { job->failed = 2; return; }
-            pend[2 * q] = o->pend[2 * q] = (uint32_t)(job->slot_vbase[k] + at);
-            pend[2 * q + 1] = JM_RESOLVED;
-        } else {
-            pend[2 * q] = owner;
-            pend[2 * q + 1] = slot;
-            o->pend[2 * q] = JM_PENDING | (uint32_t)(pb + q);
-            left++;
-        }
+    uint32_t *dst = ctx->idx + ib;
+    for (size_t t = 0; t < o->ni; t++) {
+        uint32_t r = o->tri[t];
+        dst[t] = (r & JM_PENDING) ? (JM_PENDING | (uint32_t)(pb + (r & ~JM_PENDING))) : (uint32_t)(vb + r);
     }
-    if (left) __atomic_fetch_add(&job->unresolved, left, __ATOMIC_RELAXED);
-    /* (o->pend's first entries now hold what a reference to each becomes) */
-    refs_out(ctx->idx + ib, o->tri, o->ni, o->np ? o->pend : NULL, (uint32_t)vb);
+    if (o->np) memcpy(job->pend + 2 * pb, o->pend, o->np * 2 * sizeof(uint32_t));
     size_t b = job->first + i;
-    if (o->nb && !job->one_batch) {
+    if (o->nb) {
         uint32_t *m = jm_alloc(&ctx->mem, o->nb * 2 * sizeof(uint32_t));
         if (!m) { job->failed = 1; return; }
         memcpy(m, o->bmap, o->nb * 2 * sizeof(uint32_t));
@@ -84,7 +47,6 @@ static jm_status sweep_batch(jm_frame *f, size_t first, size_t m, size_t *nv_io,
     const jm_config *c = f->c;
     size_t nv = *nv_io, ni = *ni_io;
     f->first = first;
-    f->batch = m;
     double ta0 = jm_now_ms();
     jm_pool_run(ctx->pool, m, 1, block_task, f);
     double ta1 = jm_now_ms();
@@ -119,7 +81,7 @@ static jm_status sweep_batch(jm_frame *f, size_t first, size_t m, size_t *nv_io,
     ctx->nv = *nv_io = nv;
     ctx->ni = *ni_io = ni;
     jm_pool_run(ctx->pool, m, 1, copy_task, f);
-    if (f->failed) return f->failed == 2 ? JM_E_INTERNAL : JM_E_OUT_OF_MEMORY;
+    if (f->failed) return JM_E_OUT_OF_MEMORY;
     if (jm_frame_releases_grid(c) && first + m < f->bs.count) {
         /* the blocks left lie at the next one's z or above (its low
          * nodes as block.c places them); their hoods start at a cell z
@@ -136,9 +98,6 @@ static jm_status sweep_batch(jm_frame *f, size_t first, size_t m, size_t *nv_io,
 jm_status jm_frame_sweep(jm_frame *f)
 {
     size_t nv = 0, ni = 0;
-    /* every block in one batch: all its pending references resolved at
-     * the copy, and no owner's map kept for the stitch */
-    f->one_batch = f->bs.count <= f->slots;
     for (size_t first = 0; first < f->bs.count; first += f->slots) {
         const size_t m = f->bs.count - first < f->slots ? f->bs.count - first : f->slots;
         const jm_status s = sweep_batch(f, first, m, &nv, &ni);
