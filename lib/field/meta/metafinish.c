@@ -489,14 +489,14 @@ typedef struct rounds {
  * zeroes a vertex of every folded triangle and a triangle of unmoved
  * vertices is not folded, so the rounds end. After the first round (every
  * triangle), a round tests only the triangles with a vertex the round
- * before halved (hit[v], that round's number plus one): any other keeps
+ * before halved (halved[v], that round's number plus one): any other keeps
  * the offsets with which it was last found not folded (a folded triangle
  * has all three halved). They are among the triangles with a changed
  * vertex (watch), which the facing pass needs too. The first round also
  * finds the triangles with a corner away from their moved normal (awl),
  * which the facing pass tests again at the final positions. */
-static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint32_t *hit, size_t nv,
-                       rounds *R)
+static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *changed, uint32_t *halved,
+                       size_t nv, rounds *R)
 {
     const size_t nt = F->nt;
     const uint32_t *idx = F->idx;
@@ -506,7 +506,7 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
     F->D = D;
     jm_pool_run(pool, (nt + FIN_CHUNK - 1) / FIN_CHUNK, 1, fold0_task, F);
     memset(changed, 0, nv);
-    memset(hit, 0, nv * sizeof *hit);
+    memset(halved, 0, nv * sizeof *halved);
     for (uint32_t round = 0, all = 1;; round++) {
         size_t folded = 0, fresh = 0, nh = 0;
         /* round 0: the triangles its bits mark, in order; then the watched
@@ -522,7 +522,7 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
             if (round) {
                 const uint32_t *v = idx + 3 * t;
                 /* (round + 1: halved last round and listed again in this one) */
-                if ((hit[v[0]] < round) & (hit[v[1]] < round) & (hit[v[2]] < round)) continue;
+                if ((halved[v[0]] < round) & (halved[v[1]] < round) & (halved[v[2]] < round)) continue;
             }
             for (uint32_t any = round ? 1 : (m | m >> 16) & 0xffffu; any; any &= any - 1) {
                 const int l = round ? 0 : __builtin_ctz(any);
@@ -536,8 +536,8 @@ static int fold_rounds(jm_mem *mem, jm_pool *pool, fin *F, float *D, uint8_t *ch
                 for (int k = 0; k < 3; k++) {
                     fresh += !changed[v[k]];
                     changed[v[k]] = 1;
-                    if (hit[v[k]] != round + 1) {
-                        hit[v[k]] = round + 1;
+                    if (halved[v[k]] != round + 1) {
+                        halved[v[k]] = round + 1;
                         R->hit[nh++] = v[k];
                     }
                 }
@@ -574,6 +574,7 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
     if (!acc) return 0;
     float *D = acc + 2 * nv;
     uint8_t *flag = (uint8_t *)acc, *changed = (uint8_t *)acc + nv;
+    uint32_t *halved = (uint32_t *)(void *)(acc + nv);
     /* 16 triangles a pass where the CPU can (metafinish16.c), else 8
      * (metafinish8.c): the same bits as one at a time */
     fin F = {pos, nrm, NULL, idx, nt, facing, jm_finish16_ok() ? 16 : (jm_finish8_ok() ? 8 : 1), NULL, NULL, 0, NULL};
@@ -587,7 +588,7 @@ int jm_meta_finish(jm_mem *mem, jm_pool *pool, float *pos, float *nrm, size_t nv
         if (ok) {
             R.awl = R.watch + R.capw;
             R.hit = R.awl + R.capw;
-            ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, (uint32_t *)(void *)(acc + nv), nv, &R);
+            ok = sag_offsets(mem, pool, &F, acc, D, nv, max_sag) && fold_rounds(mem, pool, &F, D, changed, halved, nv, &R);
         }
         if (ok) {
             vtx_job V = {NULL, D, pos, nrm, nv, 0.0f};
